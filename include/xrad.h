@@ -1,0 +1,191 @@
+/*
+ * xrad: diffuse global illumination by radiosity on Vulkan.
+ *
+ * This is the whole public interface of libxrad. Everything else lives in
+ * src/ and may change. Units throughout: lengths in metres (scene files may
+ * declare millimetres; they are converted on load), time in seconds,
+ * radiosity and emission in W/m^2 (radiant exitance), albedo dimensionless
+ * in [0, 1).
+ *
+ * Errors are values: every fallible call returns an xrad_status and, when it
+ * is not XRAD_OK, fills the caller's xrad_error with a message that names the
+ * file, the object and the field (for input) or the failing call and its
+ * result (for the system). No call exits the process.
+ *
+ * Thread-safety: objects are not internally synchronised; use one object from
+ * one thread at a time. Distinct objects may be used from distinct threads.
+ */
+#ifndef XRAD_H
+#define XRAD_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Status codes double as the command line's exit statuses. */
+typedef enum xrad_status {
+    XRAD_OK = 0,
+    XRAD_ERROR_INPUT = 1,  /* bad input: a scene file, an argument, a value out of range */
+    XRAD_ERROR_SYSTEM = 2, /* I/O, memory, Vulkan or device failure */
+} xrad_status;
+
+typedef struct xrad_error {
+    xrad_status status;
+    char message[1024];
+} xrad_error;
+
+/* ------------------------------------------------------------------ scene */
+
+typedef struct xrad_scene xrad_scene;
+
+/* Parses, validates and builds a scene file (format: scenes/README.md).
+ * On success *out owns the scene; release it with xrad_scene_destroy. */
+xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err);
+
+/* Same, from JSON text in memory; `name` stands for the file in messages. */
+xrad_status xrad_scene_parse(const char *json, size_t len, const char *name,
+                             xrad_scene **out, xrad_error *err);
+
+/* Accepts NULL and *scene == NULL; sets *scene to NULL. */
+void xrad_scene_destroy(xrad_scene **scene);
+
+typedef struct xrad_scene_info {
+    uint32_t objects, dynamic_objects;
+    uint32_t surfaces, materials;
+    uint32_t elements, static_elements, dynamic_elements;
+    uint32_t atlas_width, atlas_height; /* texels; one texel per element */
+    double area;                        /* m^2, all surfaces */
+    size_t cpu_bytes;                   /* host memory the scene holds */
+    uint32_t planarised;                /* surfaces projected onto their best-fit plane */
+    double planarise_max_offset;        /* m, largest vertex move that took */
+} xrad_scene_info;
+
+void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info);
+
+/* A radiosity solution in the scene's atlas layout: atlas_width x
+ * atlas_height texels, RGBA float, row-major; texels that belong to no
+ * element hold zero. Alpha is unused (1 on element texels). */
+typedef struct xrad_atlas {
+    uint32_t width, height;
+    float *rgba;
+} xrad_atlas;
+
+/* Allocates a zeroed atlas of the scene's size. */
+xrad_status xrad_atlas_create(const xrad_scene *scene, xrad_atlas *atlas, xrad_error *err);
+void xrad_atlas_destroy(xrad_atlas *atlas);
+
+/* ------------------------------------------------------- reference solver */
+
+/* Progress callback: `stage` names the phase, `fraction` is in [0, 1]. */
+typedef void (*xrad_progress_fn)(void *user, const char *stage, double fraction);
+
+/* The CPU reference solver: independent of the GPU code. Zero means default
+ * in every field. */
+typedef struct xrad_reference_desc {
+    double time;            /* s, scene time at which dynamic objects are posed; default 0 */
+    uint32_t rays;          /* visibility rays per element pair; default 16 */
+    double residual;        /* stop when max |delta B| / max B of a sweep < this; default 1e-6 */
+    uint32_t max_sweeps;    /* Gauss-Seidel sweeps at most; default 100000 */
+    uint32_t threads;       /* worker threads; default: online cores */
+    xrad_progress_fn progress;
+    void *progress_user;
+} xrad_reference_desc;
+
+typedef struct xrad_reference_stats {
+    double form_factor_seconds; /* wall time building the form factor matrix */
+    double solve_seconds;       /* wall time in Gauss-Seidel */
+    uint32_t sweeps;
+    double residual;            /* achieved */
+    double max_row_sum;         /* largest sum_j F_ij, a closure check */
+} xrad_reference_stats;
+
+/* Solves B = E + rho F B for all elements; writes B into `atlas` (created
+ * with xrad_atlas_create). `stats` may be NULL. */
+xrad_status xrad_reference_solve(const xrad_scene *scene, const xrad_reference_desc *desc,
+                                 xrad_atlas *atlas, xrad_reference_stats *stats,
+                                 xrad_error *err);
+
+/* ------------------------------------------------------------ GPU context */
+
+typedef struct xrad_context xrad_context;
+
+typedef struct xrad_context_desc {
+    /* Substring of the device name to use; NULL: $XRAD_DEVICE, else the
+     * first discrete or integrated GPU, else the first device (lavapipe). */
+    const char *device;
+    /* Enable VK_LAYER_KHRONOS_validation: 0 off unless $XRAD_VALIDATION=1,
+     * 1 on. Messages are counted (xrad_context_validation_messages) and
+     * printed to stderr. Missing layer with validation on is an error. */
+    int validation;
+} xrad_context_desc;
+
+xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **out,
+                                xrad_error *err);
+void xrad_context_destroy(xrad_context **ctx);
+
+/* Validation messages of severity warning or error seen so far. */
+uint32_t xrad_context_validation_messages(const xrad_context *ctx);
+
+/* The name of the chosen device. */
+const char *xrad_context_device_name(const xrad_context *ctx);
+
+typedef struct xrad_device_info {
+    char name[256];
+    const char *type; /* "discrete", "integrated", "virtual", "cpu", "other" */
+    uint32_t api_version;
+    uint64_t device_local_bytes;
+} xrad_device_info;
+
+/* Calls `fn` once per Vulkan physical device, in enumeration order. */
+xrad_status xrad_devices_list(void (*fn)(void *user, const xrad_device_info *info),
+                              void *user, xrad_error *err);
+
+/* ---------------------------------------------------------------- display */
+
+typedef struct xrad_view_desc {
+    uint32_t width, height; /* pixels; default: the scene camera's, else 512 x 512 */
+    double time;            /* s, pose of dynamic objects; default 0 */
+    int nearest;            /* 1: show elements as flat squares instead of bilinear */
+} xrad_view_desc;
+
+/* Draws the scene from its camera with `atlas` as surface radiosity and
+ * returns the linear image: width x height RGBA float, row 0 at the top,
+ * pixel value = B (W/m^2) of the visible surface, 0 where no surface is.
+ * `*rgba` is malloc'd; free() it. */
+xrad_status xrad_render_view(xrad_context *ctx, const xrad_scene *scene,
+                             const xrad_atlas *atlas, const xrad_view_desc *desc,
+                             float **rgba, uint32_t *width, uint32_t *height,
+                             xrad_error *err);
+
+/* ------------------------------------------------------------------ images */
+
+/* Linear half-float RGBA OpenEXR. */
+xrad_status xrad_image_write_exr(const char *path, const float *rgba, uint32_t width,
+                                 uint32_t height, xrad_error *err);
+/* Reads any RGB(A) OpenEXR into float RGBA; *rgba is malloc'd. */
+xrad_status xrad_image_read_exr(const char *path, float **rgba, uint32_t *width,
+                                uint32_t *height, xrad_error *err);
+
+/* 8-bit sRGB PNG of exposure * value, clamped (tone mapping: exposure only,
+ * documented in README). exposure <= 0: automatic, see
+ * xrad_image_auto_exposure. */
+xrad_status xrad_image_write_png(const char *path, const float *rgba, uint32_t width,
+                                 uint32_t height, double exposure, xrad_error *err);
+
+/* The exposure that maps the 95th percentile luminance of the non-zero
+ * pixels to 0.8; 1 for an all-zero image. */
+double xrad_image_auto_exposure(const float *rgba, uint32_t width, uint32_t height);
+
+/* NRMSE of a against b: RMS over all pixels and RGB channels of (a - b),
+ * divided by (max - min) of b's RGB values. Returns a negative value when b
+ * is constant. */
+double xrad_image_nrmse(const float *a, const float *b, uint32_t width, uint32_t height);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

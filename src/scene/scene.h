@@ -1,0 +1,124 @@
+/*
+ * The built scene: what parse -> validate -> build produces, and what every
+ * solver, the reference and the display read. Host-side, double precision,
+ * metres. Nothing here knows about Vulkan.
+ *
+ * Element atlas (thesis 4.1, figure 4.1.2; DESIGN.md "Data model"): a surface
+ * of nu x nv elements owns a tile of nu x nv texels. Element (i, j) samples
+ * the surface at parameters s = i / (nu - 1), t = j / (nv - 1), so the texel
+ * centres of the outer rows lie on the surface edges and adjacent coplanar
+ * surfaces share boundary samples. Each element stands for the part of the
+ * surface within half a sample spacing of its sample (clipped to the
+ * surface): edge elements carry half, corner elements a quarter of an inner
+ * element's area, and the areas of a surface sum to its area.
+ */
+#ifndef XRAD_SCENE_H
+#define XRAD_SCENE_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "core/vec.h"
+#include "xrad.h"
+
+#define SCENE_NAME_MAX 64
+
+typedef struct material {
+    char name[SCENE_NAME_MAX];
+    vec3 albedo;   /* each channel in [0, 1) */
+    vec3 emission; /* W/m^2 radiant exitance, each channel >= 0 */
+} material;
+
+typedef struct keyframe {
+    double time;      /* s, strictly increasing within an animation */
+    vec3 translation; /* m, added to the object's base translation */
+} keyframe;
+
+/* Pose at time t: translate(keys(t)) * base * rotate_about_pivot(axis, rate t).
+ * The rotation acts in object space about `pivot` (object space, m); the
+ * keyframed translation is piecewise linear and, with `loop`, repeats with
+ * the period of the last key's time. Without keys there is no translation. */
+typedef struct animation {
+    bool rotates;
+    vec3 axis;  /* unit */
+    vec3 pivot; /* m, object space */
+    double rate; /* rad/s */
+    uint32_t keyframe_count;
+    keyframe *keyframes;
+    bool loop;
+} animation;
+
+typedef struct object {
+    char name[SCENE_NAME_MAX];
+    bool dynamic; /* set M of thesis 3.1; static objects form set C */
+    xform base;   /* object space -> world at rest */
+    animation anim;
+    uint32_t first_surface, surface_count;
+    uint32_t first_element, element_count;
+} object;
+
+/* A planar convex quad with a bilinear parametrisation
+ * P(s, t) = (1-s)(1-t) p[0] + s(1-t) p[1] + s t p[2] + (1-s) t p[3].
+ * p[1] - p[0] is the "u" edge, p[3] - p[0] the "v" edge; the front side is
+ * along normal = normalize((p[1] - p[0]) x (p[3] - p[0])) (for a non-
+ * parallelogram, the Newell normal, same orientation). Light is emitted and
+ * received on the front side only. */
+typedef struct surface {
+    char name[SCENE_NAME_MAX];
+    uint32_t object;
+    uint32_t material;
+    vec3 p[4];     /* m, object space */
+    vec3 normal;   /* object space, unit */
+    double area;   /* m^2 */
+    uint32_t nu, nv; /* element samples along s and t, each >= 2 */
+    uint32_t first_element;
+    uint32_t tile_x, tile_y; /* atlas texel of element (0, 0) */
+    double planarise_offset; /* m moved to make the quad planar; 0 if it was */
+} surface;
+
+/* Elements are stored surface by surface, object by object, row-major
+ * within a surface: index = surface.first_element + j * nu + i. */
+typedef struct element {
+    vec3 pos;          /* m, object space sample point (corner samples moved inward slightly) */
+    double area;       /* m^2 */
+    uint32_t surface;
+    uint16_t i, j;     /* sample index within the surface */
+    uint32_t texel_x, texel_y; /* atlas texel */
+} element;
+
+typedef struct camera {
+    vec3 position, look_at, up; /* m, world */
+    double fov_y;               /* radians, vertical */
+    uint32_t width, height;     /* default image size, pixels */
+} camera;
+
+struct xrad_scene {
+    char path[512]; /* the file it came from, for messages */
+    double unit;    /* metres per file unit */
+    double density; /* default elements per metre */
+
+    uint32_t material_count;
+    material *materials;
+    uint32_t object_count;
+    object *objects;
+    uint32_t surface_count;
+    surface *surfaces;
+    uint32_t element_count;
+    element *elements;
+
+    uint32_t atlas_width, atlas_height;
+    camera cam;
+};
+
+/* The bilinear parametrisation of a surface, object space. */
+vec3 surface_point(const surface *s, double u, double v);
+
+/* Object space -> world for `object` at scene time `t` (see animation). */
+xform scene_object_pose(const xrad_scene *scene, uint32_t object, double t);
+
+/* World-space corners and normal of a surface at time t. */
+void scene_surface_world(const xrad_scene *scene, uint32_t surface, double t,
+                         vec3 corners[4], vec3 *normal);
+
+#endif
