@@ -162,7 +162,7 @@ xrad_status xrad_render_view(xrad_context *ctx, const xrad_scene *scene,
 
 /* ------------------------------------------------------------------ images */
 
-/* Linear half-float RGBA OpenEXR. */
+/* Linear 32-bit float RGBA OpenEXR (ZIP compressed). */
 xrad_status xrad_image_write_exr(const char *path, const float *rgba, uint32_t width,
                                  uint32_t height, xrad_error *err);
 /* Reads any RGB(A) OpenEXR into float RGBA; *rgba is malloc'd. */

@@ -1,0 +1,52 @@
+/* Tone-mapped 8-bit sRGB PNG output. Tone mapping is a plain exposure
+ * scale followed by a clamp and the sRGB transfer curve (README, "Images"). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <png.h>
+
+#include "core/error.h"
+
+static uint8_t srgb_encode(double v)
+{
+    if (!(v > 0)) /* also catches NaN */
+        return 0;
+    if (v >= 1)
+        return 255;
+    double s = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
+    return (uint8_t)lround(s * 255.0);
+}
+
+xrad_status xrad_image_write_png(const char *path, const float *rgba, uint32_t width,
+                                 uint32_t height, double exposure, xrad_error *err)
+{
+    if (width == 0 || height == 0 || width > 65536 || height > 65536)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: cannot write a %ux%u image", path, width,
+                         height);
+    if (!(exposure > 0) || !isfinite(exposure))
+        exposure = xrad_image_auto_exposure(rgba, width, height);
+    size_t n = (size_t)width * height;
+    uint8_t *px = malloc(n * 3);
+    if (!px)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory", path);
+    for (size_t i = 0; i < n; i++)
+        for (int c = 0; c < 3; c++)
+            px[i * 3 + c] = srgb_encode(rgba[i * 4 + c] * exposure);
+
+    png_image img;
+    memset(&img, 0, sizeof(img));
+    img.version = PNG_IMAGE_VERSION;
+    img.width = width;
+    img.height = height;
+    img.format = PNG_FORMAT_RGB;
+    int ok = png_image_write_to_file(&img, path, 0, px, (png_int_32)(width * 3), NULL);
+    free(px);
+    if (!ok) {
+        xrad_status st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: cannot write PNG: %s", path,
+                                   img.message);
+        png_image_free(&img);
+        return st;
+    }
+    return XRAD_OK;
+}

@@ -1,0 +1,104 @@
+/* Image I/O and metrics: EXR round trip is lossless for float data, PNG
+ * pixels follow the sRGB curve, NRMSE matches its definition on images
+ * built so that the answer is known in closed form. */
+#include <png.h>
+#include <stdint.h>
+
+#include "harness.h"
+#include "xrad.h"
+
+static void test_exr_roundtrip(const char *dir)
+{
+    enum { W = 37, H = 21 };
+    static float px[W * H * 4];
+    for (int i = 0; i < W * H; i++) {
+        px[i * 4 + 0] = (float)i * 0.5f;
+        px[i * 4 + 1] = -1e-6f * (float)i;
+        px[i * 4 + 2] = 1e6f + (float)i;
+        px[i * 4 + 3] = 1.0f;
+    }
+    char path[512];
+    snprintf(path, sizeof(path), "%s/roundtrip.exr", dir);
+    xrad_error err = {0};
+    CHECK(xrad_image_write_exr(path, px, W, H, &err) == XRAD_OK, "%s", err.message);
+    float *back = NULL;
+    uint32_t w = 0, h = 0;
+    CHECK(xrad_image_read_exr(path, &back, &w, &h, &err) == XRAD_OK, "%s", err.message);
+    CHECK(w == W && h == H, "size %ux%u", w, h);
+    if (back) {
+        int same = 1;
+        for (int i = 0; i < W * H * 4; i++)
+            same &= back[i] == px[i];
+        CHECK(same, "float EXR round trip must be exact");
+    }
+    free(back);
+
+    /* A file that is not an EXR is bad input, with the path in the message. */
+    snprintf(path, sizeof(path), "%s/not-an-exr.exr", dir);
+    FILE *f = fopen(path, "w");
+    if (f) {
+        fputs("hello", f);
+        fclose(f);
+    }
+    CHECK(xrad_image_read_exr(path, &back, &w, &h, &err) == XRAD_ERROR_INPUT, "status");
+    CHECK(strstr(err.message, "not-an-exr.exr") != NULL, "message: %s", err.message);
+}
+
+static void test_png_srgb(const char *dir)
+{
+    /* Exposure 1: 0 -> 0, 1 -> 255, 0.5 -> sRGB(0.5) = 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354 -> 188;
+     * 0.002 -> 12.92 * 0.002 = 0.02584 -> 7; values above 1 clamp. */
+    float px[5 * 4] = {0, 0, 0, 1, 1, 1, 1, 1, 0.5f, 0.5f, 0.5f, 1, 0.002f, 0.002f, 0.002f, 1,
+                       7, 7, 7, 1};
+    char path[512];
+    snprintf(path, sizeof(path), "%s/srgb.png", dir);
+    xrad_error err = {0};
+    CHECK(xrad_image_write_png(path, px, 5, 1, 1.0, &err) == XRAD_OK, "%s", err.message);
+    png_image img;
+    memset(&img, 0, sizeof(img));
+    img.version = PNG_IMAGE_VERSION;
+    uint8_t rgb[5 * 3] = {0};
+    int ok = png_image_begin_read_from_file(&img, path);
+    CHECK(ok && img.width == 5 && img.height == 1, "png header");
+    if (ok) {
+        img.format = PNG_FORMAT_RGB;
+        ok = png_image_finish_read(&img, NULL, rgb, 0, NULL);
+        CHECK(ok, "png read");
+    }
+    const uint8_t want[5] = {0, 255, 188, 7, 255};
+    for (int i = 0; i < 5; i++)
+        CHECK(rgb[i * 3] == want[i], "pixel %d = %u, want %u", i, rgb[i * 3], want[i]);
+}
+
+static void test_nrmse(void)
+{
+    enum { W = 8, H = 4 };
+    static float a[W * H * 4], b[W * H * 4];
+    /* b spans [0, 2]; a = b + 0.1 everywhere: RMS = 0.1, NRMSE = 0.1 / 2. */
+    for (int i = 0; i < W * H; i++)
+        for (int c = 0; c < 4; c++) {
+            b[i * 4 + c] = 2.0f * (float)i / (W * H - 1);
+            a[i * 4 + c] = b[i * 4 + c] + 0.1f;
+        }
+    CHECK_REL(xrad_image_nrmse(a, b, W, H), 0.05, 1e-5);
+    CHECK_ABS(xrad_image_nrmse(b, b, W, H), 0, 0);
+    /* Only one channel of one pixel differs by d: RMS = d / sqrt(3 W H). */
+    memcpy(a, b, sizeof(a));
+    a[5 * 4 + 1] += 1.0f;
+    CHECK_REL(xrad_image_nrmse(a, b, W, H), 1.0 / sqrt(3.0 * W * H) / 2.0, 1e-5);
+    /* Constant reference: undefined, reported as negative. */
+    for (int i = 0; i < W * H * 4; i++)
+        b[i] = 1;
+    CHECK(xrad_image_nrmse(a, b, W, H) < 0, "constant reference");
+}
+
+int main(void)
+{
+    char dir[] = "/tmp/xrad-test-image-XXXXXX";
+    if (!mkdtemp(dir))
+        return test_skip("cannot make a temporary directory");
+    test_exr_roundtrip(dir);
+    test_png_srgb(dir);
+    test_nrmse();
+    return test_finish();
+}
