@@ -1,0 +1,90 @@
+#!/bin/sh
+# End-to-end checks of the xrad command line: help on every command, exit
+# statuses (0 ok, 1 bad input, 2 system/GPU error) and messages that name
+# the file and field. Usage: test_cli.sh XRAD SOURCE_ROOT
+set -u
+xrad=$1
+root=$2
+tmp=$(mktemp -d /tmp/xrad-cli-XXXXXX)
+trap 'rm -rf "$tmp"' EXIT
+fails=0
+checks=0
+
+expect() { # expect STATUS DESCRIPTION -- command...
+    want=$1; what=$2; shift 3
+    checks=$((checks + 1))
+    "$@" >"$tmp/out" 2>"$tmp/err"
+    got=$?
+    if [ "$got" != "$want" ]; then
+        fails=$((fails + 1))
+        echo "FAIL: $what: exit $got, want $want: $*"
+        sed 's/^/    /' "$tmp/out" "$tmp/err" | head -20
+    fi
+}
+expect_text() { # expect_text FILE PATTERN DESCRIPTION
+    checks=$((checks + 1))
+    if ! grep -q -- "$2" "$1"; then
+        fails=$((fails + 1))
+        echo "FAIL: $3: '$2' not in output:"
+        sed 's/^/    /' "$1" | head -20
+    fi
+}
+
+expect 0 "top-level help" -- "$xrad" --help
+expect_text "$tmp/out" "render" "help lists commands"
+for c in render compare info devices; do
+    expect 0 "$c --help" -- "$xrad" "$c" --help
+    expect_text "$tmp/out" "usage: xrad $c" "$c help text"
+done
+expect 1 "no command" -- "$xrad"
+expect 1 "unknown command" -- "$xrad" frobnicate
+expect 1 "render without a scene" -- "$xrad" render
+expect 1 "unknown option" -- "$xrad" render "$root/scenes/cornell-box.json" --bogus
+expect_text "$tmp/err" "bogus" "unknown option is named"
+expect 1 "unknown method" -- "$xrad" render "$root/scenes/cornell-box.json" --method bogus
+expect 1 "bad number" -- "$xrad" render "$root/scenes/cornell-box.json" --width -3
+expect 1 "bad extension" -- "$xrad" render "$root/scenes/cornell-box.json" --out x.jpg
+
+# info on every shipped scene
+for s in "$root"/scenes/*.json; do
+    expect 0 "info $(basename "$s")" -- "$xrad" info "$s"
+    expect_text "$tmp/out" "elements" "info prints elements"
+done
+
+# bad scene files: exit 1, message names the file and the field
+printf '{"materials": [{"name": "m", "albedo": [1.5, 0, 0]}], "objects": []}' >"$tmp/bad-albedo.json"
+expect 1 "albedo out of range" -- "$xrad" info "$tmp/bad-albedo.json"
+expect_text "$tmp/err" "bad-albedo.json" "message names the file"
+expect_text "$tmp/err" "albedo" "message names the field"
+printf '{"objects": [' >"$tmp/truncated.json"
+expect 1 "malformed JSON" -- "$xrad" info "$tmp/truncated.json"
+expect_text "$tmp/err" "truncated.json" "message names the file"
+expect 1 "missing file" -- "$xrad" info "$tmp/does-not-exist.json"
+expect_text "$tmp/err" "does-not-exist.json" "message names the file"
+
+# unknown device: bad input, and the message lists what there is
+expect 1 "unknown device" -- "$xrad" devices --device no-such-device-xyz
+expect 0 "devices" -- "$xrad" devices
+expect_text "$tmp/out" "\*" "devices marks the chosen one"
+
+# a small scene end to end: reference solve, PNG + EXR, compare with itself
+cat >"$tmp/tiny.json" <<'JSON'
+{"unit": "m", "density": 4,
+ "materials": [{"name": "white", "albedo": [0.7, 0.7, 0.7]},
+               {"name": "lamp", "albedo": [0, 0, 0], "emission": [10, 10, 10]}],
+ "objects": [{"name": "room", "surfaces": [
+   {"name": "walls", "material": "white", "box": {"origin": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0], "w": [0, 0, 1]}, "inward": true},
+   {"name": "light", "material": "lamp", "quad": {"origin": [0.4, 0.99, 0.4], "u": [0, 0, 0.2], "v": [0.2, 0, 0]}}]}],
+ "camera": {"position": [0.5, 0.5, 0.05], "look_at": [0.5, 0.5, 1], "up": [0, 1, 0], "fov_degrees": 60, "width": 64, "height": 64}}
+JSON
+expect 0 "render tiny" -- "$xrad" render "$tmp/tiny.json" --out "$tmp/tiny.exr" --quiet
+expect_text "$tmp/out" "tiny.exr" "render says where the image went"
+expect_text "$tmp/out" "time:" "render prints its timings"
+expect 0 "render tiny png" -- "$xrad" render "$tmp/tiny.json" --png "$tmp/tiny.png" --exr "$tmp/tiny2.exr" --quiet
+[ -s "$tmp/tiny.png" ] || { fails=$((fails + 1)); echo "FAIL: no PNG written"; }
+expect 0 "compare identical" -- "$xrad" compare "$tmp/tiny.exr" "$tmp/tiny2.exr"
+expect_text "$tmp/out" "^nrmse 0.0000000$" "identical renders have NRMSE 0"
+expect 1 "compare non-EXR" -- "$xrad" compare "$tmp/tiny.png" "$tmp/tiny.exr"
+
+echo "$checks checks, $fails failed"
+[ "$fails" -eq 0 ]

@@ -1,0 +1,57 @@
+/* Shared pieces of the xrad command line: argument scanning and messages. */
+#ifndef XRAD_TOOLS_CLI_H
+#define XRAD_TOOLS_CLI_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "xrad.h"
+
+/* A subcommand: argv[0] is the subcommand's name. Returns an exit status
+ * (0 ok, 1 bad input, 2 system or GPU error). */
+typedef int (*cli_command_fn)(int argc, char **argv);
+
+int cmd_render(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
+int cmd_info(int argc, char **argv);
+int cmd_devices(int argc, char **argv);
+
+/* Scans argv for options. Each call to cli_next returns the next option name
+ * (without leading dashes) or NULL at the end; positional arguments are
+ * collected in `positional`. `--name=value` and `--name value` both work. */
+typedef struct cli_args {
+    int argc, index;
+    char **argv;
+    const char *value; /* inline value from --name=value, if any */
+    char opt[64];
+    const char *positional[8];
+    int positional_count;
+    const char *command;
+    bool failed;
+} cli_args;
+
+void cli_init(cli_args *a, int argc, char **argv);
+const char *cli_next(cli_args *a);
+/* The value of the current option; reports and sets failed if missing. */
+const char *cli_value(cli_args *a);
+bool cli_double(cli_args *a, double lo, double hi, double *out);
+bool cli_uint(cli_args *a, uint32_t lo, uint32_t hi, uint32_t *out);
+bool cli_is_help(const char *opt);
+/* Reports an unknown option and sets failed. */
+void cli_unknown(cli_args *a, const char *opt);
+
+/* Prints "xrad: <message>" to stderr and returns the status as exit code. */
+int cli_report(const xrad_error *err);
+int cli_usage_error(const char *command, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+double cli_now(void);
+const char *cli_basename_noext(const char *path, char *buf, size_t n);
+bool cli_has_ext(const char *path, const char *ext);
+/* mkdir -p of the directory part of `path`. */
+bool cli_make_parent_dirs(const char *path);
+
+#endif

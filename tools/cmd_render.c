@@ -1,0 +1,192 @@
+/* xrad render SCENE: solve the radiosity of a scene and write the camera's
+ * view as linear EXR and/or tone-mapped PNG. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+static void help(void)
+{
+    printf("usage: xrad render SCENE.json [options]\n\n"
+           "Solves the scene and writes the image seen by its camera.\n\n"
+           "  --method NAME     radiosity method: reference (CPU ground truth:\n"
+           "                    analytic form factors, ray-cast visibility, Gauss-Seidel)\n"
+           "                    [default: reference]\n"
+           "  --out FILE        output image; .png (tone-mapped sRGB) or .exr (linear)\n"
+           "  --png FILE        write a PNG here (may be given with --exr)\n"
+           "  --exr FILE        write an EXR here\n"
+           "                    [default: out/<scene>-<method>.png and .exr]\n"
+           "  --width N, --height N   image size [default: the scene camera's]\n"
+           "  --time T          seconds of scene animation to pose dynamic objects [0]\n"
+           "  --exposure E      PNG scale factor; 0 = auto (95th percentile -> 0.8) [0]\n"
+           "  --nearest         show elements as flat squares (no interpolation)\n"
+           "  --rays N          reference: visibility rays per element pair [16]\n"
+           "  --residual R      reference: Gauss-Seidel stop, max|dB|/max B per sweep [1e-6]\n"
+           "  --threads N       reference: worker threads [online cores]\n"
+           "  --device NAME     Vulkan device (substring; see xrad devices)\n"
+           "  --quiet           no progress on stderr\n\n"
+           "The EXR holds the radiosity B (W/m^2) of the surface seen in each pixel.\n");
+}
+
+typedef struct render_opts {
+    const char *scene, *method, *png, *exr, *device;
+    uint32_t width, height;
+    double time, exposure;
+    int nearest, quiet;
+    xrad_reference_desc ref;
+} render_opts;
+
+static void progress(void *user, const char *stage, double fraction)
+{
+    (void)user;
+    fprintf(stderr, "\r  %-14s %5.1f%%", stage, 100.0 * fraction);
+    if (fraction >= 1.0)
+        fputc('\n', stderr);
+    fflush(stderr);
+}
+
+static int parse(int argc, char **argv, render_opts *o)
+{
+    cli_args a;
+    cli_init(&a, argc, argv);
+    const char *opt;
+    o->method = "reference";
+    while ((opt = cli_next(&a)) && !a.failed) {
+        if (cli_is_help(opt)) {
+            help();
+            return -1;
+        } else if (!strcmp(opt, "method")) {
+            o->method = cli_value(&a);
+        } else if (!strcmp(opt, "out")) {
+            const char *v = cli_value(&a);
+            if (v && cli_has_ext(v, ".png"))
+                o->png = v;
+            else if (v && cli_has_ext(v, ".exr"))
+                o->exr = v;
+            else if (v)
+                a.failed = cli_usage_error("render", "--out %s: the extension must be .png or .exr", v);
+        } else if (!strcmp(opt, "png")) {
+            o->png = cli_value(&a);
+        } else if (!strcmp(opt, "exr")) {
+            o->exr = cli_value(&a);
+        } else if (!strcmp(opt, "width")) {
+            cli_uint(&a, 1, 16384, &o->width);
+        } else if (!strcmp(opt, "height")) {
+            cli_uint(&a, 1, 16384, &o->height);
+        } else if (!strcmp(opt, "time")) {
+            cli_double(&a, -1e9, 1e9, &o->time);
+        } else if (!strcmp(opt, "exposure")) {
+            cli_double(&a, 0, 1e30, &o->exposure);
+        } else if (!strcmp(opt, "nearest")) {
+            o->nearest = 1;
+        } else if (!strcmp(opt, "rays")) {
+            cli_uint(&a, 1, 4096, &o->ref.rays);
+        } else if (!strcmp(opt, "residual")) {
+            cli_double(&a, 1e-15, 1, &o->ref.residual);
+        } else if (!strcmp(opt, "threads")) {
+            cli_uint(&a, 1, 1024, &o->ref.threads);
+        } else if (!strcmp(opt, "device")) {
+            o->device = cli_value(&a);
+        } else if (!strcmp(opt, "quiet")) {
+            o->quiet = 1;
+        } else {
+            cli_unknown(&a, opt);
+        }
+    }
+    if (a.failed)
+        return 1;
+    if (a.positional_count != 1)
+        return cli_usage_error("render", "needs one scene file (see xrad render --help)");
+    o->scene = a.positional[0];
+    if (strcmp(o->method, "reference") != 0)
+        return cli_usage_error("render", "--method %s: unknown method (available: reference)",
+                               o->method);
+    return 0;
+}
+
+int cmd_render(int argc, char **argv)
+{
+    render_opts o = {0};
+    int rc = parse(argc, argv, &o);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+
+    char name[256], png_default[600], exr_default[600];
+    if (!o.png && !o.exr) {
+        cli_basename_noext(o.scene, name, sizeof(name));
+        snprintf(png_default, sizeof(png_default), "out/%s-%s.png", name, o.method);
+        snprintf(exr_default, sizeof(exr_default), "out/%s-%s.exr", name, o.method);
+        o.png = png_default;
+        o.exr = exr_default;
+    }
+
+    xrad_error err = {0};
+    xrad_scene *scene = NULL;
+    xrad_context *ctx = NULL;
+    xrad_atlas atlas = {0};
+    float *image = NULL;
+    double t0 = cli_now();
+    if (xrad_scene_load(o.scene, &scene, &err))
+        return cli_report(&err);
+    xrad_scene_info info;
+    xrad_scene_get_info(scene, &info);
+    double t_load = cli_now();
+
+    /* The device first: a missing GPU is reported before a long solve. */
+    if (xrad_context_create(&(xrad_context_desc){.device = o.device}, &ctx, &err) ||
+        xrad_atlas_create(scene, &atlas, &err))
+        goto fail;
+    double t_ctx = cli_now();
+
+    if (!o.quiet) {
+        fprintf(stderr, "xrad: %s: %u elements (%u static, %u dynamic), method %s, device %s\n",
+                o.scene, info.elements, info.static_elements, info.dynamic_elements, o.method,
+                xrad_context_device_name(ctx));
+        o.ref.progress = progress;
+    }
+    o.ref.time = o.time;
+    xrad_reference_stats stats = {0};
+    if (xrad_reference_solve(scene, &o.ref, &atlas, &stats, &err))
+        goto fail;
+    double t_solve = cli_now();
+
+    uint32_t w = 0, h = 0;
+    xrad_view_desc view = {.width = o.width, .height = o.height, .time = o.time,
+                           .nearest = o.nearest};
+    if (xrad_render_view(ctx, scene, &atlas, &view, &image, &w, &h, &err))
+        goto fail;
+    double t_display = cli_now();
+
+    for (int k = 0; k < 2; k++) {
+        const char *path = k == 0 ? o.exr : o.png;
+        if (!path)
+            continue;
+        if (!cli_make_parent_dirs(path)) {
+            snprintf(err.message, sizeof(err.message), "%s: cannot create its directory", path);
+            err.status = XRAD_ERROR_SYSTEM;
+            goto fail;
+        }
+        xrad_status st = k == 0 ? xrad_image_write_exr(path, image, w, h, &err)
+                                : xrad_image_write_png(path, image, w, h, o.exposure, &err);
+        if (st)
+            goto fail;
+        printf("wrote %s (%ux%u)\n", path, w, h);
+    }
+    printf("time: load %.3f s, device %.3f s, solve %.3f s (form factors %.3f s, "
+           "Gauss-Seidel %.3f s, %u sweeps, residual %.2g), display %.3f s, total %.3f s\n",
+           t_load - t0, t_ctx - t_load, t_solve - t_ctx, stats.form_factor_seconds,
+           stats.solve_seconds, stats.sweeps, stats.residual, t_display - t_solve,
+           cli_now() - t0);
+    rc = 0;
+    goto done;
+
+fail:
+    rc = cli_report(&err);
+done:
+    free(image);
+    xrad_atlas_destroy(&atlas);
+    xrad_context_destroy(&ctx);
+    xrad_scene_destroy(&scene);
+    return rc;
+}
