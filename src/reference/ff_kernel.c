@@ -147,31 +147,43 @@ static int graded_rule(int order, int levels, const double *gx, const double *gw
     return m;
 }
 
-double ref_ff_quad_polygon(const vec3 recv[4], const vec3 *poly, int count, int order,
-                           int levels)
+double ref_ff_area_polygon(const vec3 *recv, int recv_count, const vec3 *poly, int count,
+                           int order, int levels)
 {
     double gx[REF_GL_MAX], gw[REF_GL_MAX];
-    if (levels < 0 || levels > REF_GRADE_MAX || !ref_gauss_legendre(order, gx, gw))
+    if (recv_count < 3 || recv_count > REF_POLY_MAX || count < 3 || count > REF_POLY_MAX ||
+        levels < 0 || levels > REF_GRADE_MAX || !ref_gauss_legendre(order, gx, gw))
         return -1;
-    double s[REF_GL_MAX * (2 * REF_GRADE_MAX + 2)], ws[REF_GL_MAX * (2 * REF_GRADE_MAX + 2)];
-    int m = graded_rule(order, levels, gx, gw, s, ws);
+    vec3 big = ref_polygon_newell(recv, recv_count);
+    double area = 0.5 * v3_len(big);
+    if (!(area > 0))
+        return 0;
+    vec3 n = v3_scale(big, 0.5 / area);
 
-    vec3 n = v3_norm(ref_polygon_newell(recv, 4));
-    vec3 e01 = v3_sub(recv[1], recv[0]), e32 = v3_sub(recv[2], recv[3]);
-    vec3 e03 = v3_sub(recv[3], recv[0]), e12 = v3_sub(recv[2], recv[1]);
-    double area = 0, sum = 0;
-    for (int a = 0; a < m; a++) {
-        for (int b = 0; b < m; b++) {
-            double u = s[a], v = s[b];
-            vec3 p = v3_add(v3_add(v3_scale(recv[0], (1 - u) * (1 - v)), v3_scale(recv[1], u * (1 - v))),
-                            v3_add(v3_scale(recv[2], u * v), v3_scale(recv[3], (1 - u) * v)));
-            /* Jacobian of the bilinear map: |dP/ds x dP/dt|. */
-            vec3 ps = v3_add(v3_scale(e01, 1 - v), v3_scale(e32, v));
-            vec3 pt = v3_add(v3_scale(e03, 1 - u), v3_scale(e12, u));
-            double wj = ws[a] * ws[b] * v3_len(v3_cross(ps, pt));
-            area += wj;
-            sum += wj * ref_ff_point_polygon(p, n, poly, count);
+    /* Receiver points behind the emitter's plane get nothing. */
+    vec3 en = v3_norm(ref_polygon_newell(poly, count));
+    vec3 part[REF_POLY_MAX + 1];
+    int m = clip_above(poly[0], en, recv, recv_count, part);
+    if (m < 3)
+        return 0;
+
+    double s[REF_GL_MAX * (2 * REF_GRADE_MAX + 2)], ws[REF_GL_MAX * (2 * REF_GRADE_MAX + 2)];
+    int q = graded_rule(order, levels, gx, gw, s, ws);
+    double sum = 0;
+    for (int k = 1; k + 1 < m; k++) {
+        /* Duffy map of the unit square onto triangle (a, b, c):
+         * x = a + u (b - a) + u v (c - b), Jacobian 2 |abc| u. */
+        vec3 a = part[0], ab = v3_sub(part[k], a), bc = v3_sub(part[k + 1], part[k]);
+        double twice = v3_len(v3_cross(ab, bc));
+        if (!(twice > 0))
+            continue;
+        for (int iu = 0; iu < q; iu++) {
+            double u = s[iu];
+            for (int iv = 0; iv < q; iv++) {
+                vec3 x = v3_add(a, v3_add(v3_scale(ab, u), v3_scale(bc, u * s[iv])));
+                sum += ws[iu] * ws[iv] * twice * u * ref_ff_point_polygon(x, n, poly, count);
+            }
         }
     }
-    return area > 0 ? sum / area : 0;
+    return sum / area;
 }

@@ -37,20 +37,23 @@ vec3 ref_polygon_newell(const vec3 *poly, int count);
  * weights w[0..n-1]. n is 1..REF_GL_MAX; returns 0 on a bad n, else 1. */
 int ref_gauss_legendre(int n, double *x, double *w);
 
-/* Area-averaged form factor from a receiving planar quad (bilinear
- * parametrisation P(s,t) of corners recv[0..3] as in scene.h, front side
- * along its Newell normal) to a polygon: (1 / A_r) integral over the quad of
- * ref_ff_point_polygon, i.e. thesis eq. 2.2.1 without occlusion.
- * The integral over (s, t) uses an `order`-point Gauss-Legendre rule per
- * interval on a composite mesh graded geometrically towards all four edges
- * of the quad with `levels` levels (ratio REF_GRADE_RATIO; 0 = a single
- * interval per direction). Grading matters when the polygon touches the
- * receiver (a shared edge), where the point kernel jumps from about 1/2 to 0
- * at the edge and is not smooth near it. Returns a negative value on bad
- * `order` or `levels`. */
+/* Area-averaged form factor from a receiving convex planar polygon (front
+ * side along its Newell normal) to a polygon: (1 / A_r) times the integral
+ * over the receiver of ref_ff_point_polygon, i.e. thesis eq. 2.2.1 without
+ * occlusion; A_r F_re = A_e F_er (reciprocity) holds to quadrature error.
+ * Every point of a planar receiver shares one tangent plane, so the kernel
+ * is smooth where it is not zero; the zero part (receiver points behind the
+ * emitter's plane) is clipped off first, so that no kink of the integrand
+ * lies inside the domain. The rest is split into a fan of triangles, each
+ * mapped from the unit square (Duffy), and integrated with an `order`-point
+ * Gauss-Legendre rule per interval of a composite mesh graded geometrically
+ * towards the square's edges with `levels` levels (ratio REF_GRADE_RATIO;
+ * 0 = one interval). Grading matters where the emitter touches the
+ * receiver (a shared edge): there the kernel jumps from about 1/2 to 0.
+ * Counts are 3..REF_POLY_MAX. Returns a negative value on bad arguments. */
 #define REF_GRADE_RATIO 0.15
 #define REF_GRADE_MAX 24
-double ref_ff_quad_polygon(const vec3 recv[4], const vec3 *poly, int count, int order,
-                           int levels);
+double ref_ff_area_polygon(const vec3 *recv, int recv_count, const vec3 *poly, int count,
+                           int order, int levels);
 
 #endif

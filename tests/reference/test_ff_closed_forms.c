@@ -202,7 +202,7 @@ static double kernel_c11(double a, double b, double c, int order, int levels)
     vec3 recv[4] = {v3(0, 0, 0), v3(a, 0, 0), v3(a, b, 0), v3(0, b, 0)};
     vec3 emit[4];
     rect_facing_down(0, a, 0, b, c, emit);
-    return ref_ff_quad_polygon(recv, emit, 4, order, levels);
+    return ref_ff_area_polygon(recv, 4, emit, 4, order, levels);
 }
 
 /* Howell C-14: A1 = l x w in z = 0 (x in [0, w], y in [0, l], front +z),
@@ -211,7 +211,7 @@ static double kernel_c14(double l, double w, double h, int order, int levels)
 {
     vec3 recv[4] = {v3(0, 0, 0), v3(w, 0, 0), v3(w, l, 0), v3(0, l, 0)};
     vec3 emit[4] = {v3(0, 0, 0), v3(0, l, 0), v3(0, l, h), v3(0, 0, h)};
-    return ref_ff_quad_polygon(recv, emit, 4, order, levels);
+    return ref_ff_area_polygon(recv, 4, emit, 4, order, levels);
 }
 
 static void test_area_closed_forms(void)
@@ -258,7 +258,7 @@ static void test_cube_closure(void)
         vec3 nrm = v3_norm(ref_polygon_newell(faces[f], 4));
         vec3 centre = v3_scale(v3_add(faces[f][0], faces[f][2]), 0.5);
         CHECK(v3_dot(nrm, v3_sub(v3(0.5, 0.5, 0.5), centre)) > 0, "face %d faces inward", f);
-        double got = ref_ff_quad_polygon(bottom, faces[f], 4, 8, 8);
+        double got = ref_ff_area_polygon(bottom, 4, faces[f], 4, 8, 8);
         CHECK_REL(got, f == 0 ? howell_c11(1, 1, 1) : howell_c14(1, 1, 1), 1e-4);
         sum += got;
     }

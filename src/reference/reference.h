@@ -1,0 +1,70 @@
+/*
+ * Internals of the CPU reference solver (xrad_reference_solve), exposed for
+ * its tests. The solver shares no radiosity code with the GPU path: form
+ * factors come from the analytic point-to-polygon kernel (ff_kernel.h),
+ * visibility from ray casting (raycast.h), and B from Gauss-Seidel on the
+ * dense system B = E + rho F B (thesis eq. 2.2.2 with elements, 2.2.4).
+ *
+ * Discretisation: element i receives at its sample point x_i (scene.h) with
+ * its surface's normal; element j emits from its cell, the part of its
+ * surface within half a sample spacing of its sample, clipped to the
+ * surface. F_ij = F(x_i -> cell_j) * V_ij, where V_ij is the fraction of
+ * `rays` segments from x_i to stratified points of cell_j that no quad
+ * blocks.
+ */
+#ifndef XRAD_REFERENCE_REFERENCE_H
+#define XRAD_REFERENCE_REFERENCE_H
+
+#include <stdint.h>
+
+#include "reference/raycast.h"
+#include "scene/scene.h"
+#include "xrad.h"
+
+/* The scene at one time, in world space, ready for form factors. */
+typedef struct ref_geometry {
+    uint32_t element_count, surface_count;
+    uint32_t rays;         /* visibility rays per pair */
+    double scale;          /* m, diagonal of the scene's bounding box */
+    double tol;            /* m, separation tolerance of the occluder culling */
+    ref_quad *quads;       /* per surface, world corners */
+    uint32_t *surface_first, *surface_elements; /* per surface, its element range */
+    uint32_t *surface_of;  /* per element */
+    vec3 *recv;            /* per element, the receiving point (world) */
+    vec3 *origin;          /* per element, the rays' origin: recv a hair along normal */
+    vec3 *normal;          /* per element, unit (world) */
+    vec3 (*cell)[4];       /* per element, its cell's world corners, wound like its surface */
+} ref_geometry;
+
+/* Boundary samples lie on their surface's edge, and so in the plane of a
+ * surface that meets it there (a wall on a floor); the radiosity such a
+ * sample stands for is the limit from inside its surface. The receiving
+ * point of a boundary element is moved this fraction of the way towards its
+ * surface's centre. */
+#define REF_EDGE_NUDGE 1e-8
+/* Ray origins sit this fraction of the scene's diagonal above the surface. */
+#define REF_RAY_HAIR 1e-7
+
+/* Builds the world-space geometry at scene time `time`. */
+xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t rays,
+                                ref_geometry **out, xrad_error *err);
+void ref_geometry_destroy(ref_geometry **geometry);
+
+/* Scratch entries ref_form_factor_row needs. */
+#define REF_ROW_SCRATCH(g) (2 * (size_t)(g)->surface_count)
+
+/* Fills row[0..element_count-1] with F_ij for receiver i (0 for elements of
+ * i's own surface and for cells that face away) and returns the row's sum.
+ * `scratch` holds REF_ROW_SCRATCH(g) entries. Thread-safe for distinct rows
+ * and scratch. */
+double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row, uint32_t *scratch);
+
+/* The dense form factor matrix, row-major element_count^2 floats (malloc'd,
+ * *F owns it), built with desc->threads threads (desc may be NULL). Fills
+ * form_factor_seconds and max_row_sum of `stats` (may be NULL). Refuses a
+ * matrix over REF_MATRIX_MAX_BYTES. */
+#define REF_MATRIX_MAX_BYTES ((uint64_t)2 << 30)
+xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference_desc *desc,
+                                   float **F, xrad_reference_stats *stats, xrad_error *err);
+
+#endif

@@ -1,0 +1,446 @@
+/* The CPU reference solver: analytic form factors, ray-cast visibility,
+ * Gauss-Seidel (thesis 2.2.1-2.2.2; reference.h). */
+#include "reference/reference.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "core/error.h"
+#include "reference/ff_kernel.h"
+
+#define DEFAULT_RAYS 16
+#define DEFAULT_RESIDUAL 1e-6
+#define DEFAULT_MAX_SWEEPS 100000
+#define MAX_RAYS 65536
+#define MAX_THREADS 256
+
+static double now_seconds(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Bilinear map of scene.h over world corners c[0..3]. */
+static vec3 bilinear(const vec3 c[4], double s, double t)
+{
+    return v3_lerp(v3_lerp(c[0], c[1], s), v3_lerp(c[3], c[2], s), t);
+}
+
+/* Parameter range of sample i of n: within half a spacing, clipped. */
+static void cell_range(uint32_t i, uint32_t n, double *lo, double *hi)
+{
+    double h = 1.0 / (n - 1), c = i * h;
+    *lo = fmax(0.0, c - 0.5 * h);
+    *hi = fmin(1.0, c + 0.5 * h);
+}
+
+void ref_geometry_destroy(ref_geometry **geometry)
+{
+    if (!geometry || !*geometry)
+        return;
+    ref_geometry *g = *geometry;
+    free(g->quads);
+    free(g->surface_first);
+    free(g->surface_elements);
+    free(g->surface_of);
+    free(g->recv);
+    free(g->origin);
+    free(g->normal);
+    free(g->cell);
+    free(g);
+    *geometry = NULL;
+}
+
+xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t rays,
+                                ref_geometry **out, xrad_error *err)
+{
+    *out = NULL;
+    ref_geometry *g = calloc(1, sizeof *g);
+    if (!g)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "reference: out of memory");
+    uint32_t ns = scene->surface_count, ne = scene->element_count;
+    g->surface_count = ns;
+    g->element_count = ne;
+    g->rays = rays;
+    size_t sa = ns ? ns : 1, ea = ne ? ne : 1;
+    g->quads = malloc(sa * sizeof *g->quads);
+    g->surface_first = malloc(sa * sizeof *g->surface_first);
+    g->surface_elements = malloc(sa * sizeof *g->surface_elements);
+    g->surface_of = malloc(ea * sizeof *g->surface_of);
+    g->recv = malloc(ea * sizeof *g->recv);
+    g->origin = malloc(ea * sizeof *g->origin);
+    g->normal = malloc(ea * sizeof *g->normal);
+    g->cell = malloc(ea * sizeof *g->cell);
+    if (!g->quads || !g->surface_first || !g->surface_elements || !g->surface_of || !g->recv ||
+        !g->origin || !g->normal || !g->cell) {
+        ref_geometry_destroy(&g);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "reference: out of memory for %u elements", ne);
+    }
+
+    vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (uint32_t s = 0; s < ns; s++) {
+        const surface *sf = &scene->surfaces[s];
+        vec3 corners[4];
+        scene_surface_world(scene, s, time, corners, NULL);
+        if (!ref_quad_init(&g->quads[s], corners)) {
+            ref_geometry_destroy(&g);
+            return xrad_fail(err, XRAD_ERROR_INPUT, "%s: surface '%s' has zero area at time %g",
+                             scene->path, sf->name, time);
+        }
+        for (int k = 0; k < 4; k++) {
+            lo = v3(fmin(lo.x, corners[k].x), fmin(lo.y, corners[k].y), fmin(lo.z, corners[k].z));
+            hi = v3(fmax(hi.x, corners[k].x), fmax(hi.y, corners[k].y), fmax(hi.z, corners[k].z));
+        }
+        g->surface_first[s] = sf->first_element;
+        g->surface_elements[s] = sf->nu * sf->nv;
+    }
+    g->scale = ns ? v3_len(v3_sub(hi, lo)) : 1;
+    g->tol = 1e-9 * g->scale;
+
+    for (uint32_t e = 0; e < ne; e++) {
+        const element *el = &scene->elements[e];
+        const surface *sf = &scene->surfaces[el->surface];
+        const ref_quad *q = &g->quads[el->surface];
+        xform pose = scene_object_pose(scene, sf->object, time);
+        vec3 p = xf_point(&pose, el->pos);
+        if (el->i == 0 || el->i == sf->nu - 1 || el->j == 0 || el->j == sf->nv - 1)
+            p = v3_lerp(p, bilinear(q->p, 0.5, 0.5), REF_EDGE_NUDGE);
+        g->surface_of[e] = el->surface;
+        g->recv[e] = p;
+        g->normal[e] = q->normal;
+        g->origin[e] = v3_mad(p, q->normal, REF_RAY_HAIR * g->scale);
+        double s0, s1, t0, t1;
+        cell_range(el->i, sf->nu, &s0, &s1);
+        cell_range(el->j, sf->nv, &t0, &t1);
+        g->cell[e][0] = bilinear(q->p, s0, t0);
+        g->cell[e][1] = bilinear(q->p, s1, t0);
+        g->cell[e][2] = bilinear(q->p, s1, t1);
+        g->cell[e][3] = bilinear(q->p, s0, t1);
+    }
+    *out = g;
+    return XRAD_OK;
+}
+
+/* Fraction of the rays from the origin of i to stratified points of cell j
+ * that none of the `count` candidate quads blocks. */
+static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const uint32_t *cand,
+                         uint32_t count)
+{
+    uint64_t seed = ref_pair_seed(i, j);
+    uint32_t open = 0;
+    for (uint32_t k = 0; k < g->rays; k++) {
+        double s, t;
+        ref_sample(seed, k, g->rays, &s, &t);
+        vec3 target = bilinear(g->cell[j], s, t);
+        bool blocked = false;
+        for (uint32_t c = 0; c < count && !blocked; c++)
+            blocked = ref_segment_hits_quad(&g->quads[cand[c]], g->origin[i], target);
+        open += !blocked;
+    }
+    return (double)open / g->rays;
+}
+
+double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row, uint32_t *scratch)
+{
+    memset(row, 0, (size_t)g->element_count * sizeof *row);
+    uint32_t own = g->surface_of[i];
+    vec3 p = g->recv[i], n = g->normal[i], o = g->origin[i];
+    uint32_t *cand = scratch, *cell_cand = scratch + g->surface_count;
+    double sum = 0;
+    for (uint32_t S = 0; S < g->surface_count; S++) {
+        const ref_quad *qs = &g->quads[S];
+        /* Same surface: planar, F = 0. A surface whose front does not face
+         * p, or that lies wholly below p's tangent plane, gives 0 for every
+         * cell; the kernel would find the same, cell by cell. */
+        if (S == own || !(v3_dot(qs->normal, v3_sub(p, qs->p[0])) > 0))
+            continue;
+        bool above = false;
+        for (int k = 0; k < 4; k++)
+            above = above || v3_dot(n, v3_sub(qs->p[k], p)) > 0;
+        if (!above)
+            continue;
+        /* Occluders: quads that may meet some segment from the origin to S.
+         * Neither i's own planar surface nor S itself can block such a
+         * segment (it leaves one and ends on the other). */
+        uint32_t nc = 0;
+        for (uint32_t k = 0; k < g->surface_count; k++)
+            if (k != own && k != S && ref_quad_may_block(&g->quads[k], o, qs->p, g->tol))
+                cand[nc++] = k;
+        uint32_t first = g->surface_first[S], last = first + g->surface_elements[S];
+        for (uint32_t j = first; j < last; j++) {
+            double f = ref_ff_point_polygon(p, n, g->cell[j], 4);
+            if (!(f > 0))
+                continue;
+            uint32_t m = 0;
+            for (uint32_t c = 0; c < nc; c++)
+                if (ref_quad_may_block(&g->quads[cand[c]], o, g->cell[j], g->tol))
+                    cell_cand[m++] = cand[c];
+            if (m)
+                f *= visibility(g, i, j, cell_cand, m);
+            row[j] = (float)f;
+            sum += row[j];
+        }
+    }
+    return sum;
+}
+
+/* Rows are handed out one at a time under a lock, so threads balance and
+ * every row's value depends on its index only. The calling thread works
+ * too and is the one that reports progress. */
+typedef struct build_job {
+    const ref_geometry *g;
+    float *F;
+    double *row_sum;
+    uint32_t *scratch; /* REF_ROW_SCRATCH per thread */
+    uint32_t next, done;
+    pthread_mutex_t lock;
+    xrad_progress_fn progress;
+    void *progress_user;
+} build_job;
+
+typedef struct build_worker {
+    build_job *job;
+    uint32_t index;
+    bool reports;
+} build_worker;
+
+static void *build_rows(void *arg)
+{
+    build_worker *w = arg;
+    build_job *job = w->job;
+    const ref_geometry *g = job->g;
+    uint32_t n = g->element_count, reported = 0;
+    uint32_t *scratch = job->scratch + REF_ROW_SCRATCH(g) * w->index;
+    for (;;) {
+        pthread_mutex_lock(&job->lock);
+        uint32_t i = job->next < n ? job->next++ : n;
+        uint32_t done = job->done;
+        pthread_mutex_unlock(&job->lock);
+        if (w->reports && job->progress) {
+            uint32_t pct = (uint32_t)((uint64_t)done * 100 / (n ? n : 1));
+            if (pct > reported) {
+                reported = pct;
+                job->progress(job->progress_user, "form factors", pct / 100.0);
+            }
+        }
+        if (i >= n)
+            break;
+        job->row_sum[i] = ref_form_factor_row(g, i, job->F + (size_t)i * n, scratch);
+        pthread_mutex_lock(&job->lock);
+        job->done++;
+        pthread_mutex_unlock(&job->lock);
+    }
+    return NULL;
+}
+
+static uint32_t default_threads(void)
+{
+    long cores = sysconf(_SC_NPROCESSORS_ONLN);
+    return cores > 0 ? (uint32_t)cores : 1;
+}
+
+static xrad_status check_desc(const xrad_reference_desc *in, xrad_reference_desc *d,
+                              xrad_error *err)
+{
+    *d = in ? *in : (xrad_reference_desc){0};
+    if (!isfinite(d->time))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "reference: time is not finite");
+    if (!(d->residual >= 0) || !isfinite(d->residual))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "reference: residual %g is not a finite value >= 0",
+                         d->residual);
+    if (d->rays > MAX_RAYS)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "reference: %u rays per pair (at most %u)", d->rays,
+                         MAX_RAYS);
+    d->rays = d->rays ? d->rays : DEFAULT_RAYS;
+    d->residual = d->residual > 0 ? d->residual : DEFAULT_RESIDUAL;
+    d->max_sweeps = d->max_sweeps ? d->max_sweeps : DEFAULT_MAX_SWEEPS;
+    d->threads = d->threads ? d->threads : default_threads();
+    d->threads = d->threads < MAX_THREADS ? d->threads : MAX_THREADS;
+    return XRAD_OK;
+}
+
+xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference_desc *desc,
+                                   float **F, xrad_reference_stats *stats, xrad_error *err)
+{
+    *F = NULL;
+    xrad_reference_desc d;
+    xrad_status st = check_desc(desc, &d, err);
+    if (st)
+        return st;
+    uint64_t n = scene->element_count;
+    uint64_t bytes = n * n * sizeof(float);
+    if (bytes > REF_MATRIX_MAX_BYTES)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: %llu elements need a %.2f GiB form factor matrix; the reference "
+                         "solver holds at most %.0f GiB (lower the element density)",
+                         scene->path, (unsigned long long)n, bytes / 1073741824.0,
+                         REF_MATRIX_MAX_BYTES / 1073741824.0);
+    double t0 = now_seconds();
+    ref_geometry *g = NULL;
+    st = ref_geometry_create(scene, d.time, d.rays, &g, err);
+    if (st)
+        return st;
+
+    uint32_t threads = d.threads < n ? d.threads : (uint32_t)(n ? n : 1);
+    build_job job = {.g = g, .progress = d.progress, .progress_user = d.progress_user};
+    job.F = malloc(bytes ? bytes : 1);
+    job.row_sum = malloc((n ? n : 1) * sizeof *job.row_sum);
+    job.scratch = malloc(REF_ROW_SCRATCH(g) * threads * sizeof *job.scratch + 1);
+    build_worker *workers = malloc(threads * sizeof *workers);
+    pthread_t *tids = malloc(threads * sizeof *tids);
+    if (!job.F || !job.row_sum || !job.scratch || !workers || !tids) {
+        st = xrad_fail(err, XRAD_ERROR_SYSTEM,
+                       "reference: out of memory for the %llu x %llu form factor matrix (%.1f MiB)",
+                       (unsigned long long)n, (unsigned long long)n, bytes / 1048576.0);
+        goto done;
+    }
+    if (pthread_mutex_init(&job.lock, NULL) != 0) {
+        st = xrad_fail(err, XRAD_ERROR_SYSTEM, "reference: pthread_mutex_init failed");
+        goto done;
+    }
+    /* Fewer threads than asked when creation fails: rows are shared
+     * dynamically, so the result does not change. */
+    uint32_t started = 0;
+    for (uint32_t t = 1; t < threads; t++) {
+        workers[t] = (build_worker){&job, t, false};
+        if (pthread_create(&tids[t], NULL, build_rows, &workers[t]) != 0)
+            break;
+        started = t;
+    }
+    workers[0] = (build_worker){&job, 0, true};
+    build_rows(&workers[0]);
+    for (uint32_t t = 1; t <= started; t++)
+        pthread_join(tids[t], NULL);
+    pthread_mutex_destroy(&job.lock);
+    if (d.progress)
+        d.progress(d.progress_user, "form factors", 1.0);
+
+    if (stats) {
+        stats->max_row_sum = 0;
+        for (uint64_t i = 0; i < n; i++)
+            stats->max_row_sum = fmax(stats->max_row_sum, job.row_sum[i]);
+        stats->form_factor_seconds = now_seconds() - t0;
+    }
+    *F = job.F;
+    job.F = NULL;
+done:
+    free(job.F);
+    free(job.row_sum);
+    free(job.scratch);
+    free(workers);
+    free(tids);
+    ref_geometry_destroy(&g);
+    return st;
+}
+
+/* Gauss-Seidel on B_i = E_i + rho_i sum_j F_ij B_j (thesis eq. 2.2.2; 2.2.2
+ * "Global exchange"), RGB, starting from B = E. b holds 3 n doubles. The
+ * residual of a sweep is max |delta B| / max |B| taken per channel, and the
+ * largest of the three: a channel whose values are small next to another's
+ * (emission spans many orders of magnitude) still converges relative to
+ * its own scale. */
+static void gauss_seidel(const xrad_scene *scene, const float *F, const xrad_reference_desc *d,
+                         double *b, xrad_reference_stats *stats)
+{
+    uint32_t n = scene->element_count;
+    for (uint32_t i = 0; i < n; i++) {
+        const material *m = &scene->materials[scene->surfaces[scene->elements[i].surface].material];
+        b[3 * i + 0] = m->emission.x;
+        b[3 * i + 1] = m->emission.y;
+        b[3 * i + 2] = m->emission.z;
+    }
+    double residual = 0, reported = -1, log_target = log(d->residual);
+    uint32_t sweep = 0;
+    while (sweep < d->max_sweeps) {
+        sweep++;
+        double max_delta[3] = {0, 0, 0}, max_b[3] = {0, 0, 0};
+        for (uint32_t i = 0; i < n; i++) {
+            const material *m =
+                &scene->materials[scene->surfaces[scene->elements[i].surface].material];
+            const float *row = F + (size_t)i * n;
+            double r = 0, gr = 0, bl = 0;
+            for (uint32_t j = 0; j < n; j++) {
+                double f = row[j];
+                r += f * b[3 * j + 0];
+                gr += f * b[3 * j + 1];
+                bl += f * b[3 * j + 2];
+            }
+            double nb[3] = {m->emission.x + m->albedo.x * r, m->emission.y + m->albedo.y * gr,
+                            m->emission.z + m->albedo.z * bl};
+            for (int c = 0; c < 3; c++) {
+                max_delta[c] = fmax(max_delta[c], fabs(nb[c] - b[3 * i + c]));
+                max_b[c] = fmax(max_b[c], fabs(nb[c]));
+                b[3 * i + c] = nb[c];
+            }
+        }
+        residual = 0;
+        for (int c = 0; c < 3; c++)
+            if (max_b[c] > 0)
+                residual = fmax(residual, max_delta[c] / max_b[c]);
+        if (d->progress) {
+            double f = residual > 0 ? fmin(1.0, fmax(0.0, log(residual) / log_target)) : 1.0;
+            if (f >= reported + 0.01) {
+                reported = f;
+                d->progress(d->progress_user, "solve", f);
+            }
+        }
+        if (residual < d->residual)
+            break;
+    }
+    if (stats) {
+        stats->sweeps = sweep;
+        stats->residual = residual;
+    }
+}
+
+xrad_status xrad_reference_solve(const xrad_scene *scene, const xrad_reference_desc *desc,
+                                 xrad_atlas *atlas, xrad_reference_stats *stats,
+                                 xrad_error *err)
+{
+    if (!scene || !atlas)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "reference: scene and atlas are required");
+    if (atlas->width != scene->atlas_width || atlas->height != scene->atlas_height ||
+        !atlas->rgba)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "reference: atlas is %ux%u, the scene's is %ux%u (use xrad_atlas_create)",
+                         atlas->width, atlas->height, scene->atlas_width, scene->atlas_height);
+    xrad_reference_desc d;
+    xrad_status st = check_desc(desc, &d, err);
+    if (st)
+        return st;
+    xrad_reference_stats local = {0};
+    float *F = NULL;
+    st = ref_form_factor_matrix(scene, &d, &F, &local, err);
+    if (st)
+        return st;
+    uint32_t n = scene->element_count;
+    double *b = malloc(3 * (size_t)(n ? n : 1) * sizeof *b);
+    if (!b) {
+        free(F);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "reference: out of memory for %u elements", n);
+    }
+    double t0 = now_seconds();
+    gauss_seidel(scene, F, &d, b, &local);
+    local.solve_seconds = now_seconds() - t0;
+    free(F);
+
+    memset(atlas->rgba, 0, (size_t)atlas->width * atlas->height * 4 * sizeof *atlas->rgba);
+    for (uint32_t i = 0; i < n; i++) {
+        const element *e = &scene->elements[i];
+        float *px = atlas->rgba + ((size_t)e->texel_y * atlas->width + e->texel_x) * 4;
+        px[0] = (float)b[3 * i + 0];
+        px[1] = (float)b[3 * i + 1];
+        px[2] = (float)b[3 * i + 2];
+        px[3] = 1;
+    }
+    free(b);
+    if (stats)
+        *stats = local;
+    return XRAD_OK;
+}
