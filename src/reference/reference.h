@@ -8,9 +8,9 @@
  * Discretisation: element i receives at its sample point x_i (scene.h) with
  * its surface's normal; element j emits from its cell, the part of its
  * surface within half a sample spacing of its sample, clipped to the
- * surface. F_ij = F(x_i -> cell_j) * V_ij, where V_ij is the fraction of
- * `rays` segments from x_i to stratified points of cell_j that no quad
- * blocks.
+ * surface. F_ij = F(x_i -> cell_j) * V_ij, where V_ij is the visible
+ * fraction of `rays` segments from x_i to stratified points of cell_j,
+ * each segment weighted by the form factor integrand at its end point.
  */
 #ifndef XRAD_REFERENCE_REFERENCE_H
 #define XRAD_REFERENCE_REFERENCE_H

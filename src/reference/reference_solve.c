@@ -127,12 +127,20 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
     return XRAD_OK;
 }
 
-/* Fraction of the rays from the origin of i to stratified points of cell j
- * that none of the `count` candidate quads blocks. */
+/* Visible fraction of F(x_i -> cell_j): rays from the origin of i to
+ * stratified points of cell j, each weighted by the form factor integrand
+ * there (thesis eq. 2.2.3: cos phi_i cos phi_j / r^2; the 1/pi and the
+ * uniform area element cancel in the ratio). Weighting makes the estimate
+ * converge to the exact visible form factor as rays grow; an unweighted
+ * fraction of the cell's area converges to a biased value where a cell is
+ * large next to its distance to x_i. Only the `count` candidate quads are
+ * tested. */
 static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const uint32_t *cand,
                          uint32_t count)
 {
     uint64_t seed = ref_pair_seed(i, j);
+    vec3 p = g->recv[i], n = g->normal[i], nj = g->normal[j];
+    double seen = 0, total = 0;
     uint32_t open = 0;
     for (uint32_t k = 0; k < g->rays; k++) {
         double s, t;
@@ -141,9 +149,16 @@ static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const ui
         bool blocked = false;
         for (uint32_t c = 0; c < count && !blocked; c++)
             blocked = ref_segment_hits_quad(&g->quads[cand[c]], g->origin[i], target);
+        vec3 r = v3_sub(target, p);
+        double r2 = v3_dot(r, r);
+        double w = r2 > 0 ? fmax(0.0, v3_dot(n, r)) * fmax(0.0, -v3_dot(nj, r)) / (r2 * r2) : 0;
+        total += w;
+        seen += blocked ? 0 : w;
         open += !blocked;
     }
-    return (double)open / g->rays;
+    /* No sample where the integrand is positive (a sliver of the cell above
+     * the tangent plane): fall back to the plain fraction. */
+    return total > 0 ? seen / total : (double)open / g->rays;
 }
 
 double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row, uint32_t *scratch)
