@@ -56,6 +56,13 @@ typedef struct object {
     animation anim;
     uint32_t first_surface, surface_count;
     uint32_t first_element, element_count;
+    /* Element density (per metre) the cross-redistribution method uses for
+     * this object's shooters (thesis 5.1: CRR uses fewer elements on the box
+     * than the other methods); 0: not given, use the object's elements. */
+    double cross_density;
+    /* Elements the object would have at cross_density (same counting rule
+     * as its own elements); 0 when cross_density is 0. */
+    uint32_t cross_element_count;
 } object;
 
 /* A planar convex quad with a bilinear parametrisation
@@ -109,6 +116,8 @@ struct xrad_scene {
 
     uint32_t atlas_width, atlas_height;
     camera cam;
+
+    char name[SCENE_NAME_MAX]; /* the file's "name"; empty if none */
 };
 
 /* The bilinear parametrisation of a surface, object space. */

@@ -1,0 +1,60 @@
+/*
+ * Shared between the scene module's files only: the limits that keep any
+ * input from allocating gigabytes, and the steps after parsing (geometry
+ * checks, element sampling, atlas packing).
+ */
+#ifndef XRAD_SCENE_INTERNAL_H
+#define XRAD_SCENE_INTERNAL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "scene/scene.h"
+
+/* Limits (documented in scenes/README.md). */
+#define SCENE_MAX_FILE_BYTES (64u << 20)
+#define SCENE_MAX_MATERIALS 10000u
+#define SCENE_MAX_OBJECTS 10000u
+#define SCENE_MAX_SURFACES 100000u
+#define SCENE_MAX_KEYFRAMES 100000u
+#define SCENE_MAX_SAMPLES 4096u       /* per surface edge; the atlas is at most this wide */
+#define SCENE_MAX_ELEMENTS 4000000u   /* whole scene */
+#define SCENE_MAX_ATLAS_HEIGHT 16384u
+#define SCENE_MAX_DENSITY 10000.0     /* elements per metre */
+#define SCENE_MAX_COORD 1e9           /* m, any coordinate or length */
+#define SCENE_MAX_EMISSION 1e20       /* W/m^2: radiosity stays far from fp32 overflow */
+
+/* Corner samples sit this fraction of a sample spacing inside the surface,
+ * along the diagonal (thesis 4.1: the corner is a singularity). */
+#define SCENE_CORNER_OFFSET 0.01
+
+/* Samples along an edge of length `len` (m) at `density` elements per
+ * metre: max(2, ceil(len * density) + 1), with a relative 1e-9 slack on the
+ * product so that an edge of exactly k spacings gets k + 1 samples despite
+ * rounding. Returns a double so that absurd inputs can be detected before
+ * any cast. */
+double scene_samples_along(double len, double density);
+
+/* Validates four object-space vertices (m) as a planar convex quad and fills
+ * s->p, normal, area and planarise_offset. Vertices within 1% of the longest
+ * diagonal of their best-fit plane (Newell normal through the centroid) are
+ * projected onto it. On failure returns false and writes the reason to why. */
+bool scene_quad_setup(surface *s, const vec3 in[4], char *why, size_t why_len);
+
+/* The longer of each pair of opposite edges: along u (p0p1, p3p2) and v
+ * (p0p3, p1p2), in m. */
+void scene_quad_edge_lengths(const surface *s, double *lu, double *lv);
+
+/* Allocates and fills the elements of every surface (whose nu, nv are set),
+ * the objects' element ranges, and packs the atlas. */
+xrad_status scene_build_elements(xrad_scene *scene, xrad_error *err);
+
+/* Shelf-packs the surfaces' nu x nv tiles into an atlas of width <= 4096:
+ * sets tile_x/tile_y and scene->atlas_width/height. */
+xrad_status scene_pack_atlas(xrad_scene *scene, xrad_error *err);
+
+/* World-space bounds of every surface at time t. */
+void scene_bounds(const xrad_scene *scene, double t, vec3 *lo, vec3 *hi);
+
+#endif
