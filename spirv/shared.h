@@ -14,4 +14,17 @@ typedef struct { float x, y, z, w; } vec4;
 typedef struct { float m[16]; } mat4; /* column-major, as GLSL */
 #endif
 
+/* Display pass (src/passes/display.c, spirv/display.vert|frag). */
+#define DISPLAY_BINDING_ATLAS 0
+#define DISPLAY_MODE_NEAREST 0u       /* the sampler picks the nearest element */
+#define DISPLAY_MODE_LINEAR 1u        /* the sampler interpolates bilinearly */
+#define DISPLAY_MODE_LINEAR_SHADER 2u /* bilinear from texelFetch, where RGBA32F cannot be filtered */
+
+struct display_push {
+    mat4 clip_from_view; /* camera-relative world position (m) -> clip, reversed Z */
+    vec4 atlas_size;     /* width, height, 1 / width, 1 / height in texels */
+    uint mode;           /* DISPLAY_MODE_* */
+    uint pad0, pad1, pad2;
+};
+
 #endif

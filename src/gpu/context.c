@@ -1,0 +1,561 @@
+#include "gpu/context.h"
+
+#include <ctype.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "gpu/memory.h"
+
+#define VALIDATION_LAYER "VK_LAYER_KHRONOS_validation"
+#define DEFAULT_WAIT_TIMEOUT_NS 60000000000ull /* 60 s: far above any single xrad submission */
+
+static atomic_uint validation_total;
+
+uint32_t gpu_validation_messages_total(void)
+{
+    return atomic_load(&validation_total);
+}
+
+xrad_status gpu_context_check_alive(struct xrad_context *ctx, const char *what, xrad_error *err)
+{
+    if (!ctx->lost)
+        return XRAD_OK;
+    return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                     "%s: the GPU device was lost earlier (VK_ERROR_DEVICE_LOST or a wait "
+                     "timeout); create a new context",
+                     what);
+}
+
+static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                                 VkDebugUtilsMessageTypeFlagsEXT type,
+                                                 const VkDebugUtilsMessengerCallbackDataEXT *data,
+                                                 void *user)
+{
+    struct xrad_context *ctx = user;
+    bool error = severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    if (!error && !(severity & VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT))
+        return VK_FALSE;
+    if (ctx)
+        atomic_fetch_add(&ctx->validation_messages, 1);
+    atomic_fetch_add(&validation_total, 1);
+    fprintf(stderr, "xrad: vulkan validation %s: %s\n", error ? "error" : "warning",
+            data && data->pMessage ? data->pMessage : "(no message)");
+    return VK_FALSE;
+}
+
+static bool has_extension(const VkExtensionProperties *ext, uint32_t n, const char *name)
+{
+    for (uint32_t i = 0; i < n; i++)
+        if (!strcmp(ext[i].extensionName, name))
+            return true;
+    return false;
+}
+
+static bool contains_nocase(const char *hay, const char *needle)
+{
+    size_t n = strlen(needle);
+    for (; *hay; hay++) {
+        size_t i = 0;
+        while (i < n && hay[i] &&
+               tolower((unsigned char)hay[i]) == tolower((unsigned char)needle[i]))
+            i++;
+        if (i == n)
+            return true;
+    }
+    return n == 0;
+}
+
+static const char *device_type_name(VkPhysicalDeviceType t)
+{
+    switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+        return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+        return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+        return "virtual";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+        return "cpu";
+    default:
+        return "other";
+    }
+}
+
+/* Instance extensions: portability enumeration where the loader has it (so
+ * that MoltenVK-style drivers are listed), debug utils for validation. */
+static xrad_status create_instance(struct xrad_context *ctx, bool validation, xrad_error *err)
+{
+    uint32_t loader_api = VK_API_VERSION_1_0;
+    if (VK_CHECK(ctx, err, vkEnumerateInstanceVersion(&loader_api)))
+        return XRAD_ERROR_SYSTEM;
+    if (loader_api < VK_API_VERSION_1_2)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                         "the Vulkan loader supports Vulkan %u.%u; xrad needs 1.2 or newer",
+                         VK_API_VERSION_MAJOR(loader_api), VK_API_VERSION_MINOR(loader_api));
+    ctx->instance_api = loader_api < VK_API_VERSION_1_3 ? loader_api : VK_API_VERSION_1_3;
+
+    uint32_t n = 0;
+    if (VK_CHECK(ctx, err, vkEnumerateInstanceExtensionProperties(NULL, &n, NULL)))
+        return XRAD_ERROR_SYSTEM;
+    VkExtensionProperties *ext = calloc(n ? n : 1, sizeof(*ext));
+    if (!ext)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (instance extensions)");
+    xrad_status s = XRAD_OK;
+    if ((s = VK_CHECK(ctx, err, vkEnumerateInstanceExtensionProperties(NULL, &n, ext))))
+        goto done;
+    const char *enable[2];
+    uint32_t enable_count = 0;
+    VkInstanceCreateFlags flags = 0;
+    if (has_extension(ext, n, VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME)) {
+        enable[enable_count++] = VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME;
+        flags |= VK_INSTANCE_CREATE_ENUMERATE_PORTABILITY_BIT_KHR;
+    }
+    const char *layers[1] = {VALIDATION_LAYER};
+    VkDebugUtilsMessengerCreateInfoEXT messenger_info = {
+        .sType = VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT,
+        .messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
+                           VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT,
+        .messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                       VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT,
+        .pfnUserCallback = on_message,
+        .pUserData = ctx,
+    };
+    if (validation) {
+        uint32_t ln = 0;
+        if ((s = VK_CHECK(ctx, err, vkEnumerateInstanceLayerProperties(&ln, NULL))))
+            goto done;
+        VkLayerProperties *lp = calloc(ln ? ln : 1, sizeof(*lp));
+        if (!lp) {
+            s = xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (instance layers)");
+            goto done;
+        }
+        bool found = false;
+        if (!(s = VK_CHECK(ctx, err, vkEnumerateInstanceLayerProperties(&ln, lp))))
+            for (uint32_t i = 0; i < ln; i++)
+                found |= !strcmp(lp[i].layerName, VALIDATION_LAYER);
+        free(lp);
+        if (s)
+            goto done;
+        if (!found) {
+            s = xrad_fail(err, XRAD_ERROR_SYSTEM,
+                          "validation was requested (XRAD_VALIDATION=1 or desc.validation) but "
+                          "the layer " VALIDATION_LAYER " is not installed (Debian: "
+                          "vulkan-validationlayers)");
+            goto done;
+        }
+        if (!has_extension(ext, n, VK_EXT_DEBUG_UTILS_EXTENSION_NAME)) {
+            s = xrad_fail(err, XRAD_ERROR_SYSTEM,
+                          "validation was requested but the Vulkan loader lacks "
+                          VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+            goto done;
+        }
+        enable[enable_count++] = VK_EXT_DEBUG_UTILS_EXTENSION_NAME;
+    }
+    VkApplicationInfo app = {
+        .sType = VK_STRUCTURE_TYPE_APPLICATION_INFO,
+        .pApplicationName = "xrad",
+        .pEngineName = "xrad",
+        .apiVersion = ctx->instance_api,
+    };
+    VkInstanceCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO,
+        /* Chained, the messenger also sees instance creation and destruction. */
+        .pNext = validation ? &messenger_info : NULL,
+        .flags = flags,
+        .pApplicationInfo = &app,
+        .enabledLayerCount = validation ? 1 : 0,
+        .ppEnabledLayerNames = layers,
+        .enabledExtensionCount = enable_count,
+        .ppEnabledExtensionNames = enable,
+    };
+    if ((s = VK_CHECK(ctx, err, vkCreateInstance(&info, NULL, &ctx->instance))))
+        goto done;
+    if (validation) {
+        PFN_vkCreateDebugUtilsMessengerEXT create = (PFN_vkCreateDebugUtilsMessengerEXT)
+            vkGetInstanceProcAddr(ctx->instance, "vkCreateDebugUtilsMessengerEXT");
+        ctx->destroy_messenger = (PFN_vkDestroyDebugUtilsMessengerEXT)vkGetInstanceProcAddr(
+            ctx->instance, "vkDestroyDebugUtilsMessengerEXT");
+        if (!create || !ctx->destroy_messenger) {
+            s = xrad_fail(err, XRAD_ERROR_SYSTEM,
+                          "vkGetInstanceProcAddr: no vkCreateDebugUtilsMessengerEXT");
+            goto done;
+        }
+        if ((s = VK_CHECK(ctx, err, create(ctx->instance, &messenger_info, NULL, &ctx->messenger))))
+            goto done;
+        ctx->validation = true;
+    }
+done:
+    free(ext);
+    return s;
+}
+
+static xrad_status enumerate_devices(struct xrad_context *ctx, VkInstance instance,
+                                     VkPhysicalDevice **out, uint32_t *count, xrad_error *err)
+{
+    *out = NULL;
+    *count = 0;
+    uint32_t n = 0;
+    if (VK_CHECK(ctx, err, vkEnumeratePhysicalDevices(instance, &n, NULL)))
+        return XRAD_ERROR_SYSTEM;
+    if (n == 0)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                         "no Vulkan device found (for a software device install Mesa's lavapipe, "
+                         "Debian: mesa-vulkan-drivers)");
+    VkPhysicalDevice *d = calloc(n, sizeof(*d));
+    if (!d)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (device list)");
+    if (VK_CHECK(ctx, err, vkEnumeratePhysicalDevices(instance, &n, d))) {
+        free(d);
+        return XRAD_ERROR_SYSTEM;
+    }
+    *out = d;
+    *count = n;
+    return XRAD_OK;
+}
+
+static xrad_status choose_device(struct xrad_context *ctx, const char *wanted, xrad_error *err)
+{
+    VkPhysicalDevice *devs;
+    uint32_t n;
+    xrad_status s = enumerate_devices(ctx, ctx->instance, &devs, &n, err);
+    if (s)
+        return s;
+    int pick = -1;
+    if (wanted) {
+        char names[768] = "";
+        for (uint32_t i = 0; i < n; i++) {
+            VkPhysicalDeviceProperties p;
+            vkGetPhysicalDeviceProperties(devs[i], &p);
+            if (pick < 0 && contains_nocase(p.deviceName, wanted))
+                pick = (int)i;
+            size_t len = strlen(names);
+            snprintf(names + len, sizeof(names) - len, "%s'%s'", i ? ", " : "", p.deviceName);
+        }
+        if (pick < 0) {
+            free(devs);
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "no Vulkan device name contains '%s'; available: %s", wanted, names);
+        }
+    } else {
+        /* Discrete first, then integrated, then whatever there is (lavapipe);
+         * devices below Vulkan 1.2 only if nothing else exists. */
+        static const VkPhysicalDeviceType order[] = {VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU,
+                                                     VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU};
+        for (size_t o = 0; o < 2 && pick < 0; o++) {
+            for (uint32_t i = 0; i < n && pick < 0; i++) {
+                VkPhysicalDeviceProperties p;
+                vkGetPhysicalDeviceProperties(devs[i], &p);
+                if (p.deviceType == order[o] && p.apiVersion >= VK_API_VERSION_1_2)
+                    pick = (int)i;
+            }
+        }
+        for (uint32_t i = 0; i < n && pick < 0; i++) {
+            VkPhysicalDeviceProperties p;
+            vkGetPhysicalDeviceProperties(devs[i], &p);
+            if (p.apiVersion >= VK_API_VERSION_1_2)
+                pick = (int)i;
+        }
+        if (pick < 0)
+            pick = 0;
+    }
+    ctx->phys = devs[pick];
+    free(devs);
+    vkGetPhysicalDeviceProperties(ctx->phys, &ctx->props);
+    vkGetPhysicalDeviceMemoryProperties(ctx->phys, &ctx->mem_props);
+    if (ctx->props.apiVersion < VK_API_VERSION_1_2)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                         "device '%s' supports Vulkan %u.%u; xrad needs 1.2 or newer",
+                         ctx->props.deviceName, VK_API_VERSION_MAJOR(ctx->props.apiVersion),
+                         VK_API_VERSION_MINOR(ctx->props.apiVersion));
+    return XRAD_OK;
+}
+
+static xrad_status create_device(struct xrad_context *ctx, xrad_error *err)
+{
+    uint32_t qn = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx->phys, &qn, NULL);
+    VkQueueFamilyProperties *qf = calloc(qn ? qn : 1, sizeof(*qf));
+    if (!qf)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (queue families)");
+    vkGetPhysicalDeviceQueueFamilyProperties(ctx->phys, &qn, qf);
+    uint32_t family = UINT32_MAX;
+    const VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
+    for (uint32_t i = 0; i < qn && family == UINT32_MAX; i++)
+        if ((qf[i].queueFlags & need) == need)
+            family = i;
+    uint32_t ts_bits = family != UINT32_MAX ? qf[family].timestampValidBits : 0;
+    free(qf);
+    if (family == UINT32_MAX)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                         "device '%s' has no queue family with both graphics and compute",
+                         ctx->props.deviceName);
+    ctx->queue_family = family;
+
+    uint32_t en = 0;
+    if (VK_CHECK(ctx, err, vkEnumerateDeviceExtensionProperties(ctx->phys, NULL, &en, NULL)))
+        return XRAD_ERROR_SYSTEM;
+    VkExtensionProperties *ext = calloc(en ? en : 1, sizeof(*ext));
+    if (!ext)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (device extensions)");
+    if (VK_CHECK(ctx, err, vkEnumerateDeviceExtensionProperties(ctx->phys, NULL, &en, ext))) {
+        free(ext);
+        return XRAD_ERROR_SYSTEM;
+    }
+    bool api13 = ctx->props.apiVersion >= VK_API_VERSION_1_3 &&
+                 ctx->instance_api >= VK_API_VERSION_1_3;
+    bool has_atomic_float = has_extension(ext, en, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
+    bool has_sync2 = has_extension(ext, en, VK_KHR_SYNCHRONIZATION_2_EXTENSION_NAME);
+    bool has_budget = has_extension(ext, en, VK_EXT_MEMORY_BUDGET_EXTENSION_NAME);
+    /* The spec requires enabling it wherever it is offered (MoltenVK). */
+    bool has_portability = has_extension(ext, en, "VK_KHR_portability_subset");
+    free(ext);
+
+    /* What the device offers. */
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT q_atomic = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
+    };
+    VkPhysicalDeviceSynchronization2Features q_sync2 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,
+        .pNext = has_atomic_float ? &q_atomic : NULL,
+    };
+    VkPhysicalDeviceVulkan12Features q12 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
+        .pNext = (api13 || has_sync2) ? (void *)&q_sync2 : (has_atomic_float ? &q_atomic : NULL),
+    };
+    VkPhysicalDeviceVulkan11Features q11 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
+        .pNext = &q12,
+    };
+    VkPhysicalDeviceFeatures2 q = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+        .pNext = &q11,
+    };
+    vkGetPhysicalDeviceFeatures2(ctx->phys, &q);
+
+    VkPhysicalDeviceVulkan11Properties p11 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES,
+    };
+    VkPhysicalDeviceProperties2 p = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
+        .pNext = &p11,
+    };
+    vkGetPhysicalDeviceProperties2(ctx->phys, &p);
+
+    gpu_features *f = &ctx->features;
+    f->timeline_semaphore = q12.timelineSemaphore;
+    f->multiview = q11.multiview;
+    f->multiview_max_views = q11.multiview ? p11.maxMultiviewViewCount : 0;
+    f->shader_output_layer = q12.shaderOutputLayer;
+    f->synchronization2 = (api13 || has_sync2) && q_sync2.synchronization2;
+    f->host_query_reset = q12.hostQueryReset;
+    f->shader_float32_atomic_add = has_atomic_float && q_atomic.shaderBufferFloat32AtomicAdd;
+    f->memory_budget = has_budget;
+    f->fragment_stores_and_atomics = q.features.fragmentStoresAndAtomics;
+    f->vertex_pipeline_stores_and_atomics = q.features.vertexPipelineStoresAndAtomics;
+    f->multi_draw_indirect = q.features.multiDrawIndirect;
+    f->draw_indirect_first_instance = q.features.drawIndirectFirstInstance;
+    f->timestamp_valid_bits = ts_bits;
+    f->timestamps = ts_bits > 0 && ctx->props.limits.timestampPeriod > 0;
+    f->timestamp_period = ctx->props.limits.timestampPeriod;
+    f->subgroup_size = p11.subgroupSize;
+    f->subgroup_ops = (p11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT)
+                          ? p11.subgroupSupportedOperations
+                          : 0;
+
+    /* What is enabled: exactly the recorded features, nothing else. */
+    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT e_atomic = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
+        .shaderBufferFloat32AtomicAdd = f->shader_float32_atomic_add,
+    };
+    VkPhysicalDeviceSynchronization2Features e_sync2 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,
+        .pNext = f->shader_float32_atomic_add ? &e_atomic : NULL,
+        .synchronization2 = VK_TRUE,
+    };
+    void *after12 = f->synchronization2 ? (void *)&e_sync2
+                                        : (f->shader_float32_atomic_add ? &e_atomic : NULL);
+    VkPhysicalDeviceVulkan12Features e12 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
+        .pNext = after12,
+        .timelineSemaphore = f->timeline_semaphore,
+        .shaderOutputLayer = f->shader_output_layer,
+        .hostQueryReset = f->host_query_reset,
+    };
+    VkPhysicalDeviceVulkan11Features e11 = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
+        .pNext = &e12,
+        .multiview = f->multiview,
+    };
+    VkPhysicalDeviceFeatures2 e = {
+        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
+        .pNext = &e11,
+        .features = {
+            .fragmentStoresAndAtomics = f->fragment_stores_and_atomics,
+            .vertexPipelineStoresAndAtomics = f->vertex_pipeline_stores_and_atomics,
+            .multiDrawIndirect = f->multi_draw_indirect,
+            .drawIndirectFirstInstance = f->draw_indirect_first_instance,
+        },
+    };
+    const char *enable[4];
+    uint32_t enable_count = 0;
+    if (f->shader_float32_atomic_add)
+        enable[enable_count++] = VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME;
+    if (f->synchronization2 && !api13)
+        enable[enable_count++] = VK_KHR_SYNCHRONIZATION_2_EXTENSION_NAME;
+    if (has_budget)
+        enable[enable_count++] = VK_EXT_MEMORY_BUDGET_EXTENSION_NAME;
+    if (has_portability)
+        enable[enable_count++] = "VK_KHR_portability_subset";
+
+    float priority = 1.0f;
+    VkDeviceQueueCreateInfo queue = {
+        .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
+        .queueFamilyIndex = family,
+        .queueCount = 1,
+        .pQueuePriorities = &priority,
+    };
+    VkDeviceCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
+        .pNext = &e,
+        .queueCreateInfoCount = 1,
+        .pQueueCreateInfos = &queue,
+        .enabledExtensionCount = enable_count,
+        .ppEnabledExtensionNames = enable,
+    };
+    if (VK_CHECK(ctx, err, vkCreateDevice(ctx->phys, &info, NULL, &ctx->device)))
+        return XRAD_ERROR_SYSTEM;
+    vkGetDeviceQueue(ctx->device, family, 0, &ctx->queue);
+
+    VkCommandPoolCreateInfo pool = {
+        .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+        .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT |
+                 VK_COMMAND_POOL_CREATE_TRANSIENT_BIT,
+        .queueFamilyIndex = family,
+    };
+    if (VK_CHECK(ctx, err, vkCreateCommandPool(ctx->device, &pool, NULL, &ctx->cmd_pool)))
+        return XRAD_ERROR_SYSTEM;
+    if (f->timeline_semaphore) {
+        VkSemaphoreTypeCreateInfo type = {
+            .sType = VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO,
+            .semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE,
+            .initialValue = 0,
+        };
+        VkSemaphoreCreateInfo sem = {
+            .sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO,
+            .pNext = &type,
+        };
+        if (VK_CHECK(ctx, err, vkCreateSemaphore(ctx->device, &sem, NULL, &ctx->timeline)))
+            return XRAD_ERROR_SYSTEM;
+    }
+    return gpu_memory_create(ctx, &ctx->mem, err);
+}
+
+xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **out,
+                                xrad_error *err)
+{
+    *out = NULL;
+    xrad_context_desc zero = {0};
+    if (!desc)
+        desc = &zero;
+    struct xrad_context *ctx = calloc(1, sizeof(*ctx));
+    if (!ctx)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (context)");
+    atomic_init(&ctx->validation_messages, 0);
+    ctx->wait_timeout_ns = DEFAULT_WAIT_TIMEOUT_NS;
+    xrad_status s;
+    const char *fault = getenv("XRAD_FAULT");
+    if (fault && *fault && (s = gpu_fault_parse(fault, &ctx->fault, err))) {
+        free(ctx);
+        return s;
+    }
+    const char *env_validation = getenv("XRAD_VALIDATION");
+    bool validation = desc->validation == 1 || (env_validation && !strcmp(env_validation, "1"));
+    const char *wanted = desc->device;
+    if (!wanted || !*wanted) {
+        wanted = getenv("XRAD_DEVICE");
+        if (wanted && !*wanted)
+            wanted = NULL;
+    }
+    if ((s = create_instance(ctx, validation, err)) || (s = choose_device(ctx, wanted, err)) ||
+        (s = create_device(ctx, err))) {
+        xrad_context_destroy(&ctx);
+        return s;
+    }
+    *out = ctx;
+    return XRAD_OK;
+}
+
+void xrad_context_destroy(xrad_context **pctx)
+{
+    if (!pctx || !*pctx)
+        return;
+    struct xrad_context *ctx = *pctx;
+    if (ctx->device) {
+        /* After a loss or a hang the device may never go idle; its objects
+         * may still be destroyed (Vulkan spec, "Lost Device"). */
+        if (!ctx->lost)
+            vkDeviceWaitIdle(ctx->device);
+        if (ctx->mem) {
+            gpu_memory_stats st;
+            gpu_memory_get_stats(ctx, &st);
+            if (st.allocations)
+                fprintf(stderr, "xrad: %u GPU memory allocations were not freed\n",
+                        st.allocations);
+        }
+        gpu_memory_destroy(ctx, &ctx->mem);
+        vkDestroySemaphore(ctx->device, ctx->timeline, NULL);
+        vkDestroyCommandPool(ctx->device, ctx->cmd_pool, NULL);
+        vkDestroyDevice(ctx->device, NULL);
+    }
+    if (ctx->messenger)
+        ctx->destroy_messenger(ctx->instance, ctx->messenger, NULL);
+    if (ctx->instance)
+        vkDestroyInstance(ctx->instance, NULL);
+    free(ctx);
+    *pctx = NULL;
+}
+
+uint32_t xrad_context_validation_messages(const xrad_context *ctx)
+{
+    return ctx ? atomic_load(&((xrad_context *)ctx)->validation_messages) : 0;
+}
+
+const char *xrad_context_device_name(const xrad_context *ctx)
+{
+    return ctx->props.deviceName;
+}
+
+xrad_status xrad_devices_list(void (*fn)(void *user, const xrad_device_info *info), void *user,
+                              xrad_error *err)
+{
+    /* A bare instance: listing must work where the validation layer or the
+     * chosen device would not. */
+    struct xrad_context tmp = {0};
+    xrad_status s = create_instance(&tmp, false, err);
+    VkPhysicalDevice *devs = NULL;
+    uint32_t n = 0;
+    if (!s)
+        s = enumerate_devices(NULL, tmp.instance, &devs, &n, err);
+    for (uint32_t i = 0; i < n; i++) {
+        VkPhysicalDeviceProperties p;
+        VkPhysicalDeviceMemoryProperties mp;
+        vkGetPhysicalDeviceProperties(devs[i], &p);
+        vkGetPhysicalDeviceMemoryProperties(devs[i], &mp);
+        xrad_device_info info = {
+            .type = device_type_name(p.deviceType),
+            .api_version = p.apiVersion,
+        };
+        snprintf(info.name, sizeof(info.name), "%s", p.deviceName);
+        for (uint32_t h = 0; h < mp.memoryHeapCount; h++)
+            if (mp.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+                info.device_local_bytes += mp.memoryHeaps[h].size;
+        fn(user, &info);
+    }
+    free(devs);
+    if (tmp.instance)
+        vkDestroyInstance(tmp.instance, NULL);
+    return s;
+}

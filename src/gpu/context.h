@@ -1,0 +1,82 @@
+/*
+ * The one device wrapper (libplacebo's vk_ctx, wlroots' wlr_vk_device):
+ * instance, debug messenger, physical device, device, the single
+ * graphics+compute queue, command pool, submission timeline, memory
+ * allocator, and what the device can do. Everything Vulkan stays in src/gpu
+ * and src/passes; xrad.h only sees the opaque xrad_context.
+ */
+#ifndef XRAD_GPU_CONTEXT_H
+#define XRAD_GPU_CONTEXT_H
+
+#include <stdatomic.h>
+#include <stdbool.h>
+#include <stdint.h>
+#include <vulkan/vulkan.h>
+
+#include "gpu/vk_check.h"
+#include "xrad.h"
+
+struct gpu_memory;
+
+/* Optional capabilities, each enabled on the device when supported. */
+typedef struct gpu_features {
+    bool timeline_semaphore;
+    bool multiview;
+    uint32_t multiview_max_views; /* 0 without multiview */
+    bool shader_output_layer;     /* gl_Layer from vertex shaders (Vulkan 1.2) */
+    bool synchronization2;
+    bool host_query_reset;
+    bool shader_float32_atomic_add; /* VK_EXT_shader_atomic_float, buffers */
+    bool memory_budget;             /* VK_EXT_memory_budget */
+    bool fragment_stores_and_atomics;
+    bool vertex_pipeline_stores_and_atomics;
+    bool multi_draw_indirect;
+    bool draw_indirect_first_instance;
+    bool timestamps;        /* timestamp queries on the queue */
+    double timestamp_period; /* ns per tick */
+    uint32_t timestamp_valid_bits;
+    uint32_t subgroup_size;
+    VkSubgroupFeatureFlags subgroup_ops; /* in compute shaders */
+} gpu_features;
+
+struct xrad_context {
+    VkInstance instance;
+    uint32_t instance_api;
+    VkDebugUtilsMessengerEXT messenger;
+    PFN_vkDestroyDebugUtilsMessengerEXT destroy_messenger;
+    bool validation;
+    atomic_uint validation_messages;
+
+    VkPhysicalDevice phys;
+    VkPhysicalDeviceProperties props;
+    VkPhysicalDeviceMemoryProperties mem_props;
+    gpu_features features;
+
+    VkDevice device;
+    uint32_t queue_family;
+    VkQueue queue;
+    VkCommandPool cmd_pool;
+    /* Every submission signals the next value (gpu_cmd_submit). */
+    VkSemaphore timeline;
+    uint64_t timeline_value;
+    /* Upper bound for any wait on the GPU; a longer wait is reported as a
+     * hang (XRAD_ERROR_SYSTEM) instead of blocking forever. */
+    uint64_t wait_timeout_ns;
+
+    struct gpu_memory *mem;
+    gpu_fault fault;
+    /* Set by VK_ERROR_DEVICE_LOST (real or injected) and by wait timeouts:
+     * later submissions refuse, and destroy does not wait on the device. */
+    bool lost;
+};
+
+/* Messages (warnings and errors) seen by every context of this process,
+ * including those delivered while a context was being destroyed: the tests'
+ * leak check. */
+uint32_t gpu_validation_messages_total(void);
+
+/* XRAD_ERROR_SYSTEM naming `what` when the context was lost earlier. */
+xrad_status gpu_context_check_alive(struct xrad_context *ctx, const char *what,
+                                    xrad_error *err);
+
+#endif

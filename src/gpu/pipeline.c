@@ -1,0 +1,218 @@
+#include "gpu/pipeline.h"
+
+#include <string.h>
+
+#include "core/error.h"
+#include "gpu/context.h"
+
+#define MAX_COLOR_ATTACHMENTS 8
+
+xrad_status gpu_shader_module_create(struct xrad_context *ctx, const uint32_t *words,
+                                     size_t bytes, VkShaderModule *out, xrad_error *err)
+{
+    *out = VK_NULL_HANDLE;
+    if (bytes == 0 || bytes % 4 || words[0] != 0x07230203u)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "embedded shader is not SPIR-V (%zu bytes)",
+                         bytes);
+    VkShaderModuleCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO,
+        .codeSize = bytes,
+        .pCode = words,
+    };
+    return VK_CHECK(ctx, err, vkCreateShaderModule(ctx->device, &info, NULL, out));
+}
+
+xrad_status gpu_descriptor_layout_create(struct xrad_context *ctx,
+                                         const VkDescriptorSetLayoutBinding *bindings,
+                                         uint32_t count, VkDescriptorSetLayout *out,
+                                         xrad_error *err)
+{
+    *out = VK_NULL_HANDLE;
+    VkDescriptorSetLayoutCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO,
+        .bindingCount = count,
+        .pBindings = bindings,
+    };
+    return VK_CHECK(ctx, err, vkCreateDescriptorSetLayout(ctx->device, &info, NULL, out));
+}
+
+xrad_status gpu_pipeline_layout_create(struct xrad_context *ctx,
+                                       const VkDescriptorSetLayout *sets, uint32_t set_count,
+                                       uint32_t push_bytes, VkShaderStageFlags push_stages,
+                                       VkPipelineLayout *out, xrad_error *err)
+{
+    *out = VK_NULL_HANDLE;
+    if (push_bytes > ctx->props.limits.maxPushConstantsSize)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                         "push constants of %u bytes exceed the device limit of %u", push_bytes,
+                         ctx->props.limits.maxPushConstantsSize);
+    VkPushConstantRange push = {.stageFlags = push_stages, .offset = 0, .size = push_bytes};
+    VkPipelineLayoutCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO,
+        .setLayoutCount = set_count,
+        .pSetLayouts = sets,
+        .pushConstantRangeCount = push_bytes ? 1 : 0,
+        .pPushConstantRanges = &push,
+    };
+    return VK_CHECK(ctx, err, vkCreatePipelineLayout(ctx->device, &info, NULL, out));
+}
+
+xrad_status gpu_descriptor_pool_create(struct xrad_context *ctx,
+                                       const VkDescriptorPoolSize *sizes, uint32_t count,
+                                       uint32_t max_sets, VkDescriptorPool *out,
+                                       xrad_error *err)
+{
+    *out = VK_NULL_HANDLE;
+    VkDescriptorPoolCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO,
+        .maxSets = max_sets,
+        .poolSizeCount = count,
+        .pPoolSizes = sizes,
+    };
+    return VK_CHECK(ctx, err, vkCreateDescriptorPool(ctx->device, &info, NULL, out));
+}
+
+xrad_status gpu_descriptor_set_allocate(struct xrad_context *ctx, VkDescriptorPool pool,
+                                        VkDescriptorSetLayout layout, VkDescriptorSet *out,
+                                        xrad_error *err)
+{
+    *out = VK_NULL_HANDLE;
+    VkDescriptorSetAllocateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO,
+        .descriptorPool = pool,
+        .descriptorSetCount = 1,
+        .pSetLayouts = &layout,
+    };
+    return VK_CHECK(ctx, err, vkAllocateDescriptorSets(ctx->device, &info, out));
+}
+
+xrad_status gpu_compute_pipeline_create(struct xrad_context *ctx, const uint32_t *words,
+                                        size_t bytes, VkPipelineLayout layout,
+                                        const VkSpecializationInfo *spec, VkPipeline *out,
+                                        xrad_error *err)
+{
+    *out = VK_NULL_HANDLE;
+    VkShaderModule module;
+    xrad_status s = gpu_shader_module_create(ctx, words, bytes, &module, err);
+    if (s)
+        return s;
+    VkComputePipelineCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO,
+        .stage = {
+            .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+            .stage = VK_SHADER_STAGE_COMPUTE_BIT,
+            .module = module,
+            .pName = "main",
+            .pSpecializationInfo = spec,
+        },
+        .layout = layout,
+    };
+    s = VK_CHECK(ctx, err,
+                 vkCreateComputePipelines(ctx->device, VK_NULL_HANDLE, 1, &info, NULL, out));
+    vkDestroyShaderModule(ctx->device, module, NULL);
+    return s;
+}
+
+xrad_status gpu_graphics_pipeline_create(struct xrad_context *ctx, const gpu_graphics_desc *d,
+                                         VkPipeline *out, xrad_error *err)
+{
+    *out = VK_NULL_HANDLE;
+    if (d->color_attachments > MAX_COLOR_ATTACHMENTS)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "graphics pipeline: %u colour attachments",
+                         d->color_attachments);
+    VkShaderModule vert, frag = VK_NULL_HANDLE;
+    xrad_status s = gpu_shader_module_create(ctx, d->vert, d->vert_bytes, &vert, err);
+    if (s)
+        return s;
+    if (d->frag && (s = gpu_shader_module_create(ctx, d->frag, d->frag_bytes, &frag, err)))
+        goto fail_frag;
+    VkPipelineShaderStageCreateInfo stages[2] = {
+        {
+            .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+            .stage = VK_SHADER_STAGE_VERTEX_BIT,
+            .module = vert,
+            .pName = "main",
+            .pSpecializationInfo = d->vert_spec,
+        },
+        {
+            .sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+            .stage = VK_SHADER_STAGE_FRAGMENT_BIT,
+            .module = frag,
+            .pName = "main",
+            .pSpecializationInfo = d->frag_spec,
+        },
+    };
+    VkPipelineVertexInputStateCreateInfo vertex = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO,
+        .vertexBindingDescriptionCount = d->binding_count,
+        .pVertexBindingDescriptions = d->bindings,
+        .vertexAttributeDescriptionCount = d->attribute_count,
+        .pVertexAttributeDescriptions = d->attributes,
+    };
+    VkPipelineInputAssemblyStateCreateInfo assembly = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO,
+        .topology = d->topology ? d->topology : VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST,
+    };
+    VkPipelineViewportStateCreateInfo viewport = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_VIEWPORT_STATE_CREATE_INFO,
+        .viewportCount = 1,
+        .scissorCount = 1,
+    };
+    VkPipelineRasterizationStateCreateInfo raster = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_RASTERIZATION_STATE_CREATE_INFO,
+        .polygonMode = VK_POLYGON_MODE_FILL,
+        .cullMode = d->cull,
+        .frontFace = d->front_face,
+        .lineWidth = 1.0f,
+    };
+    VkPipelineMultisampleStateCreateInfo multisample = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO,
+        .rasterizationSamples = d->samples ? d->samples : VK_SAMPLE_COUNT_1_BIT,
+    };
+    VkPipelineDepthStencilStateCreateInfo depth = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_DEPTH_STENCIL_STATE_CREATE_INFO,
+        .depthTestEnable = d->depth_test,
+        .depthWriteEnable = d->depth_write,
+        .depthCompareOp = d->depth_compare,
+    };
+    VkPipelineColorBlendAttachmentState attachments[MAX_COLOR_ATTACHMENTS];
+    for (uint32_t i = 0; i < d->color_attachments; i++)
+        attachments[i] = (VkPipelineColorBlendAttachmentState){
+            .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
+                              VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT,
+        };
+    VkPipelineColorBlendStateCreateInfo blend = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_COLOR_BLEND_STATE_CREATE_INFO,
+        .attachmentCount = d->color_attachments,
+        .pAttachments = attachments,
+    };
+    const VkDynamicState dynamic_states[] = {VK_DYNAMIC_STATE_VIEWPORT,
+                                             VK_DYNAMIC_STATE_SCISSOR};
+    VkPipelineDynamicStateCreateInfo dynamic = {
+        .sType = VK_STRUCTURE_TYPE_PIPELINE_DYNAMIC_STATE_CREATE_INFO,
+        .dynamicStateCount = 2,
+        .pDynamicStates = dynamic_states,
+    };
+    VkGraphicsPipelineCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_GRAPHICS_PIPELINE_CREATE_INFO,
+        .stageCount = d->frag ? 2 : 1,
+        .pStages = stages,
+        .pVertexInputState = &vertex,
+        .pInputAssemblyState = &assembly,
+        .pViewportState = &viewport,
+        .pRasterizationState = &raster,
+        .pMultisampleState = &multisample,
+        .pDepthStencilState = &depth,
+        .pColorBlendState = &blend,
+        .pDynamicState = &dynamic,
+        .layout = d->layout,
+        .renderPass = d->render_pass,
+        .subpass = d->subpass,
+    };
+    s = VK_CHECK(ctx, err,
+                 vkCreateGraphicsPipelines(ctx->device, VK_NULL_HANDLE, 1, &info, NULL, out));
+    vkDestroyShaderModule(ctx->device, frag, NULL);
+fail_frag:
+    vkDestroyShaderModule(ctx->device, vert, NULL);
+    return s;
+}
