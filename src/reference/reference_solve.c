@@ -217,6 +217,7 @@ typedef struct build_job {
     pthread_mutex_t lock;
     xrad_progress_fn progress;
     void *progress_user;
+    uint32_t reported; /* percent last reported */
 } build_job;
 
 typedef struct build_worker {
@@ -230,7 +231,7 @@ static void *build_rows(void *arg)
     build_worker *w = arg;
     build_job *job = w->job;
     const ref_geometry *g = job->g;
-    uint32_t n = g->element_count, reported = 0;
+    uint32_t n = g->element_count;
     uint32_t *scratch = job->scratch + REF_ROW_SCRATCH(g) * w->index;
     for (;;) {
         pthread_mutex_lock(&job->lock);
@@ -239,8 +240,8 @@ static void *build_rows(void *arg)
         pthread_mutex_unlock(&job->lock);
         if (w->reports && job->progress) {
             uint32_t pct = (uint32_t)((uint64_t)done * 100 / (n ? n : 1));
-            if (pct > reported) {
-                reported = pct;
+            if (pct > job->reported) {
+                job->reported = pct;
                 job->progress(job->progress_user, "form factors", pct / 100.0);
             }
         }
@@ -333,7 +334,7 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
     for (uint32_t t = 1; t <= started; t++)
         pthread_join(tids[t], NULL);
     pthread_mutex_destroy(&job.lock);
-    if (d.progress)
+    if (d.progress && job.reported < 100)
         d.progress(d.progress_user, "form factors", 1.0);
 
     if (stats) {
@@ -400,7 +401,7 @@ static void gauss_seidel(const xrad_scene *scene, const float *F, const xrad_ref
                 residual = fmax(residual, max_delta[c] / max_b[c]);
         if (d->progress) {
             double f = residual > 0 ? fmin(1.0, fmax(0.0, log(residual) / log_target)) : 1.0;
-            if (f >= reported + 0.01) {
+            if (f >= reported + 0.01 || (f == 1.0 && reported < 1.0)) {
                 reported = f;
                 d->progress(d->progress_user, "solve", f);
             }
