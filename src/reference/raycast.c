@@ -47,7 +47,7 @@ static bool outside_plane(const ref_quad *q, vec3 o, vec3 n, double tol)
     return true;
 }
 
-bool ref_quad_may_block(const ref_quad *q, vec3 apex, const vec3 base[4], double tol)
+bool ref_quad_may_block(const ref_quad *q, vec3 apex, const vec3 *base, double tol)
 {
     vec3 centre = v3_scale(v3_add(v3_add(base[0], base[1]), v3_add(base[2], base[3])), 0.25);
 

@@ -36,7 +36,7 @@ bool ref_segment_hits_quad(const ref_quad *q, vec3 a, vec3 b);
  * (so no segment from apex to a point of the base can cross q), where
  * touching within `tol` (a length) counts as separate. Uses the hull's face
  * planes and q's plane as separating axes; true means "may block". */
-bool ref_quad_may_block(const ref_quad *q, vec3 apex, const vec3 base[4], double tol);
+bool ref_quad_may_block(const ref_quad *q, vec3 apex, const vec3 *base, double tol);
 
 /* 64-bit mix of two indices (splitmix64 finaliser), so that sample patterns
  * depend on the element pair only, never on thread scheduling. */
