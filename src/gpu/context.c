@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "gpu/driver_pin.h"
 #include "gpu/memory.h"
 
 #define VALIDATION_LAYER "VK_LAYER_KHRONOS_validation"
@@ -87,6 +88,9 @@ static const char *device_type_name(VkPhysicalDeviceType t)
  * that MoltenVK-style drivers are listed), debug utils for validation. */
 static xrad_status create_instance(struct xrad_context *ctx, bool validation, xrad_error *err)
 {
+    /* Keeps the drivers loaded past vkDestroyInstance (see driver_pin.c:
+     * no false leaks under LeakSanitizer). */
+    gpu_pin_driver();
     uint32_t loader_api = VK_API_VERSION_1_0;
     if (VK_CHECK(ctx, err, vkEnumerateInstanceVersion(&loader_api)))
         return XRAD_ERROR_SYSTEM;

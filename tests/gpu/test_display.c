@@ -1,0 +1,464 @@
+/*
+ * The display pass against independent truths computed here with a pinhole
+ * camera and ray-quad intersection:
+ *  (a) a constant atlas renders to exactly that constant wherever a surface
+ *      is and to 0 elsewhere, for every filter path; coverage matches the
+ *      ray cast, which (the scene being asymmetric) also fixes the image
+ *      orientation (row 0 at the top); a surface seen from behind is drawn;
+ *  (b) two coplanar adjacent quads with element values linear in world x
+ *      render that linear function across their shared edge (no seam), and
+ *      nearest filtering shows the value of the nearest element sample;
+ *  (d) the nearest surface along each ray is the one shown (depth);
+ *  and every test ends with zero validation messages (gpu_test.h).
+ */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gpu/timer.h"
+#include "gpu_test.h"
+#include "render/view.h"
+#include "scene/scene.h"
+
+#define PI 3.14159265358979323846
+
+/* ----------------------------------------------------------- pinhole */
+
+typedef struct pinhole {
+    double pos[3], fwd[3], right[3], up[3];
+    double tan_half; /* tan(fov_y / 2) */
+    uint32_t w, h;
+} pinhole;
+
+/* Camera at `pos` looking along -z with +y up (so +x is right), as every
+ * scene below declares it. */
+static pinhole make_pinhole(double z, double fov_deg, uint32_t w, uint32_t h)
+{
+    pinhole p = {
+        .pos = {0, 0, z},
+        .fwd = {0, 0, -1},
+        .right = {1, 0, 0},
+        .up = {0, 1, 0},
+        .tan_half = tan(0.5 * fov_deg * PI / 180.0),
+        .w = w,
+        .h = h,
+    };
+    return p;
+}
+
+/* Ray direction through the centre of pixel (px, py), row 0 at the top. */
+static void pixel_ray(const pinhole *c, uint32_t px, uint32_t py, double d[3])
+{
+    double aspect = (double)c->w / c->h;
+    double x = ((px + 0.5) / c->w * 2 - 1) * c->tan_half * aspect;
+    double y = (1 - (py + 0.5) / c->h * 2) * c->tan_half;
+    for (int k = 0; k < 3; k++)
+        d[k] = c->fwd[k] + x * c->right[k] + y * c->up[k];
+}
+
+typedef struct rect {
+    double o[3], u[3], v[3]; /* origin and perpendicular edges */
+} rect;
+
+static double dot3(const double a[3], const double b[3])
+{
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+
+/* Ray hit with a rectangle: distance t (< 0 for a miss), the rectangle
+ * parameters (s, q) and how far inside it is, in units of its own edges'
+ * lengths (m). */
+static double hit_rect(const pinhole *c, const double d[3], const rect *r, double *s,
+                       double *q, double *inside_m)
+{
+    double n[3] = {r->u[1] * r->v[2] - r->u[2] * r->v[1], r->u[2] * r->v[0] - r->u[0] * r->v[2],
+                   r->u[0] * r->v[1] - r->u[1] * r->v[0]};
+    double den = dot3(d, n);
+    if (fabs(den) < 1e-12)
+        return -1;
+    double oc[3] = {r->o[0] - c->pos[0], r->o[1] - c->pos[1], r->o[2] - c->pos[2]};
+    double t = dot3(oc, n) / den;
+    if (t <= 0)
+        return -1;
+    double p[3];
+    for (int k = 0; k < 3; k++)
+        p[k] = c->pos[k] + t * d[k] - r->o[k];
+    double lu = sqrt(dot3(r->u, r->u)), lv = sqrt(dot3(r->v, r->v));
+    *s = dot3(p, r->u) / (lu * lu);
+    *q = dot3(p, r->v) / (lv * lv);
+    *inside_m = fmin(fmin(*s * lu, (1 - *s) * lu), fmin(*q * lv, (1 - *q) * lv));
+    return t;
+}
+
+/* World size of one pixel at distance t along a ray (roughly). */
+static double pixel_size(const pinhole *c, double t)
+{
+    return 2.0 * c->tan_half * t / c->h;
+}
+
+/* ------------------------------------------------------------ helpers */
+
+static xrad_scene *parse(const char *json)
+{
+    xrad_scene *scene = NULL;
+    xrad_error err = {0};
+    xrad_status s = xrad_scene_parse(json, strlen(json), "test scene", &scene, &err);
+    CHECK(s == XRAD_OK, "xrad_scene_parse: %s", err.message);
+    return scene;
+}
+
+static const char *filter_name(display_filter f)
+{
+    return f == DISPLAY_FILTER_NEAREST ? "nearest" : f == DISPLAY_FILTER_LINEAR ? "linear"
+                                                                                : "linear-shader";
+}
+
+static float *render(xrad_context *ctx, const xrad_scene *scene, const xrad_atlas *atlas,
+                     display_filter filter, uint32_t w, uint32_t h, gpu_timer *timer)
+{
+    render_view_options opt = {.filter = filter, .timer = timer};
+    xrad_view_desc desc = {.width = w, .height = h};
+    float *img = NULL;
+    uint32_t gw = 0, gh = 0;
+    xrad_error err = {0};
+    xrad_status s = render_view(ctx, scene, atlas, &desc, &opt, &img, &gw, &gh, &err);
+    CHECK(s == XRAD_OK, "render_view (%s): %s", filter_name(filter), err.message);
+    CHECK(s != XRAD_OK || (gw == w && gh == h), "image %u x %u, want %u x %u", gw, gh, w, h);
+    return s == XRAD_OK ? img : NULL;
+}
+
+/* Fills the tile of every element of surface `s` with `value(i, j)`. */
+static void fill_surface(const xrad_scene *scene, xrad_atlas *atlas, uint32_t s,
+                         void (*value)(const surface *sf, uint32_t i, uint32_t j, float rgb[3]))
+{
+    const surface *sf = &scene->surfaces[s];
+    for (uint32_t e = 0; e < sf->nu * sf->nv; e++) {
+        const element *el = &scene->elements[sf->first_element + e];
+        float *t = &atlas->rgba[4 * ((size_t)el->texel_y * atlas->width + el->texel_x)];
+        value(sf, el->i, el->j, t);
+        t[3] = 1;
+    }
+}
+
+/* ---------------------------------------------- (a) constant atlas */
+
+static const float constant_rgb[3] = {0.25f, 3.5f, 1234.5f};
+
+static void constant_value(const surface *sf, uint32_t i, uint32_t j, float rgb[3])
+{
+    memcpy(rgb, constant_rgb, sizeof(constant_rgb));
+}
+
+/* A frontal quad in the upper left, and one on the right whose front faces
+ * away from the camera (u x v along -z): it must be drawn all the same. */
+static const char *constant_scene =
+    "{\"unit\": \"m\","
+    " \"materials\": [{\"name\": \"grey\", \"albedo\": [0.5, 0.5, 0.5]}],"
+    " \"objects\": [{\"name\": \"o\", \"surfaces\": ["
+    "  {\"name\": \"front\", \"material\": \"grey\", \"elements\": [5, 4],"
+    "   \"quad\": {\"origin\": [-1.6, -0.4, 0], \"u\": [2, 0, 0], \"v\": [0, 1.6, 0]}},"
+    "  {\"name\": \"back\", \"material\": \"grey\", \"elements\": [3, 7],"
+    "   \"quad\": {\"origin\": [0.6, -1.2, -0.5], \"u\": [0, 1.5, 0], \"v\": [0.9, 0, 0]}}]}],"
+    " \"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0], \"up\": [0, 1, 0],"
+    "  \"fov_degrees\": 40, \"width\": 80, \"height\": 60}}";
+
+static const rect constant_rects[2] = {
+    {{-1.6, -0.4, 0}, {2, 0, 0}, {0, 1.6, 0}},
+    {{0.6, -1.2, -0.5}, {0, 1.5, 0}, {0.9, 0, 0}},
+};
+
+static void check_constant(const float *img, const pinhole *cam, const char *what)
+{
+    uint32_t covered = 0, wrong_value = 0, wrong_cover = 0;
+    for (uint32_t py = 0; py < cam->h; py++) {
+        for (uint32_t px = 0; px < cam->w; px++) {
+            const float *p = &img[4 * ((size_t)py * cam->w + px)];
+            double d[3];
+            pixel_ray(cam, px, py, d);
+            /* +1: clearly inside a quad; -1: clearly outside all; 0: edge. */
+            int truth = -1;
+            for (int r = 0; r < 2; r++) {
+                double s, q, in;
+                double t = hit_rect(cam, d, &constant_rects[r], &s, &q, &in);
+                if (t < 0)
+                    continue;
+                double margin = 1.5 * pixel_size(cam, t);
+                if (in > margin)
+                    truth = 1;
+                else if (in > -margin && truth < 0)
+                    truth = 0;
+            }
+            if (p[3] == 1.0f) {
+                covered++;
+                for (int k = 0; k < 3; k++)
+                    if (fabs(p[k] - constant_rgb[k]) > 1e-6 * constant_rgb[k])
+                        wrong_value++;
+            } else {
+                if (p[0] != 0 || p[1] != 0 || p[2] != 0 || p[3] != 0)
+                    wrong_value++;
+            }
+            if ((truth == 1 && p[3] != 1.0f) || (truth == -1 && p[3] != 0.0f))
+                wrong_cover++;
+        }
+    }
+    CHECK(wrong_value == 0, "%s: %u pixel channels differ from the constant (or from 0)", what,
+          wrong_value);
+    CHECK(wrong_cover == 0, "%s: %u pixels covered where no surface is, or the reverse", what,
+          wrong_cover);
+    CHECK(covered > cam->w * cam->h / 10, "%s: only %u pixels covered", what, covered);
+    fprintf(stderr, "%s: %u pixels covered\n", what, covered);
+}
+
+static void test_constant(xrad_context *ctx)
+{
+    xrad_scene *scene = parse(constant_scene);
+    if (!scene)
+        return;
+    xrad_atlas atlas;
+    xrad_error err = {0};
+    CHECK(xrad_atlas_create(scene, &atlas, &err) == XRAD_OK, "atlas: %s", err.message);
+    for (uint32_t s = 0; s < scene->surface_count; s++)
+        fill_surface(scene, &atlas, s, constant_value);
+    pinhole cam = make_pinhole(5, 40, 80, 60);
+    const display_filter filters[3] = {DISPLAY_FILTER_NEAREST, DISPLAY_FILTER_LINEAR,
+                                       DISPLAY_FILTER_LINEAR_SHADER};
+    for (int f = 0; f < 3; f++) {
+        float *img = render(ctx, scene, &atlas, filters[f], 80, 60, NULL);
+        if (img)
+            check_constant(img, &cam, filter_name(filters[f]));
+        free(img);
+    }
+    /* The public entry point, with the camera's own size. */
+    float *img = NULL;
+    uint32_t w = 0, h = 0;
+    CHECK(xrad_render_view(ctx, scene, &atlas, &(xrad_view_desc){0}, &img, &w, &h, &err) ==
+              XRAD_OK,
+          "xrad_render_view: %s", err.message);
+    CHECK(w == 80 && h == 60, "default size %u x %u, want the camera's 80 x 60", w, h);
+    if (img && w == 80 && h == 60)
+        check_constant(img, &cam, "xrad_render_view");
+    free(img);
+
+    /* A wrong-sized atlas is an input error. */
+    xrad_atlas small = {atlas.width - 1, atlas.height, atlas.rgba};
+    img = NULL;
+    CHECK(xrad_render_view(ctx, scene, &small, NULL, &img, &w, &h, &err) == XRAD_ERROR_INPUT &&
+              !img,
+          "mismatched atlas accepted");
+    xrad_atlas_destroy(&atlas);
+    xrad_scene_destroy(&scene);
+}
+
+/* ------------------------------------------------ (b) seamless edge */
+
+/* f(x) = 10 + 3 x per channel with different scales. */
+static double linear_f(double x, int k)
+{
+    return (10.0 + 3.0 * x) * (k + 1);
+}
+
+/* Quads A = [-2, 0] x [-1, 1] and B = [0, 2] x [-1, 1] at z = 0, with
+ * different element counts; their samples on x = 0 coincide. */
+static const char *seam_scene =
+    "{\"unit\": \"m\","
+    " \"materials\": [{\"name\": \"grey\", \"albedo\": [0.5, 0.5, 0.5]}],"
+    " \"objects\": [{\"name\": \"o\", \"surfaces\": ["
+    "  {\"name\": \"a\", \"material\": \"grey\", \"elements\": [5, 3],"
+    "   \"quad\": {\"origin\": [-2, -1, 0], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}},"
+    "  {\"name\": \"b\", \"material\": \"grey\", \"elements\": [9, 4],"
+    "   \"quad\": {\"origin\": [0, -1, 0], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}}]}],"
+    " \"camera\": {\"position\": [0, 0, 6], \"look_at\": [0, 0, 0], \"up\": [0, 1, 0],"
+    "  \"fov_degrees\": 22, \"width\": 128, \"height\": 48}}";
+
+/* Sample x of element (i, j): origin.x + u.x * i / (nu - 1), from the
+ * geometry above (not from the scene module). */
+static void seam_value(const surface *sf, uint32_t i, uint32_t j, float rgb[3])
+{
+    double x0 = sf->nu == 5 ? -2.0 : 0.0;
+    double x = x0 + 2.0 * i / (sf->nu - 1);
+    for (int k = 0; k < 3; k++)
+        rgb[k] = (float)linear_f(x, k);
+}
+
+static void test_seam(xrad_context *ctx)
+{
+    xrad_scene *scene = parse(seam_scene);
+    if (!scene)
+        return;
+    CHECK(scene->surface_count == 2 && scene->surfaces[0].nu == 5 && scene->surfaces[1].nu == 9,
+          "scene layout");
+    xrad_atlas atlas;
+    xrad_error err = {0};
+    CHECK(xrad_atlas_create(scene, &atlas, &err) == XRAD_OK, "atlas: %s", err.message);
+    for (uint32_t s = 0; s < scene->surface_count; s++)
+        fill_surface(scene, &atlas, s, seam_value);
+    const uint32_t W = 128, H = 48;
+    pinhole cam = make_pinhole(6, 22, W, H);
+    const rect both = {{-2, -1, 0}, {4, 0, 0}, {0, 2, 0}};
+    const double range = linear_f(2, 0) - linear_f(-2, 0);
+
+    const display_filter linear[2] = {DISPLAY_FILTER_LINEAR, DISPLAY_FILTER_LINEAR_SHADER};
+    for (int f = 0; f < 2; f++) {
+        float *img = render(ctx, scene, &atlas, linear[f], W, H, NULL);
+        if (!img)
+            continue;
+        /* Every covered pixel, not only one row: B at the pixel's surface
+         * point is f(x) exactly, bilinear interpolation of a linear
+         * function being exact. */
+        double worst = 0, jump = 0;
+        uint32_t n = 0;
+        for (uint32_t py = 0; py < H; py++) {
+            for (uint32_t px = 0; px < W; px++) {
+                const float *p = &img[4 * ((size_t)py * W + px)];
+                double d[3], s, q, in;
+                pixel_ray(&cam, px, py, d);
+                double t = hit_rect(&cam, d, &both, &s, &q, &in);
+                if (t < 0 || in < 0.25 * pixel_size(&cam, t) || p[3] != 1.0f)
+                    continue;
+                double x = -2 + 4 * s;
+                for (int k = 0; k < 3; k++)
+                    worst = fmax(worst, fabs(p[k] - linear_f(x, k)) / ((k + 1) * range));
+                n++;
+            }
+        }
+        /* The middle row across the shared edge: consecutive pixels differ
+         * by the slope times the pixel pitch, also at the edge. */
+        uint32_t py = H / 2;
+        double pitch = 3.0 * pixel_size(&cam, 6.0);
+        for (uint32_t px = W / 2 - 4; px < W / 2 + 4; px++) {
+            const float *a = &img[4 * ((size_t)py * W + px)], *b = a + 4;
+            jump = fmax(jump, fabs((b[0] - a[0]) - pitch) / range);
+        }
+        fprintf(stderr, "%s: %u pixels, max |B - f(x)| / range = %.3g, edge step error %.3g\n",
+                filter_name(linear[f]), n, worst, jump);
+        CHECK(n > W * H / 3, "%s: only %u pixels checked", filter_name(linear[f]), n);
+        CHECK(worst < 1e-3, "%s: max deviation from the linear function %.3g of the range",
+              filter_name(linear[f]), worst);
+        CHECK(jump < 1e-3, "%s: step across the shared edge off by %.3g of the range",
+              filter_name(linear[f]), jump);
+        free(img);
+    }
+
+    /* Nearest: element squares; a pixel well inside one shows the value of
+     * the nearest sample. */
+    float *img = render(ctx, scene, &atlas, DISPLAY_FILTER_NEAREST, W, H, NULL);
+    if (img) {
+        uint32_t n = 0, wrong = 0;
+        for (uint32_t py = 0; py < H; py++) {
+            for (uint32_t px = 0; px < W; px++) {
+                const float *p = &img[4 * ((size_t)py * W + px)];
+                double d[3], s, q, in;
+                pixel_ray(&cam, px, py, d);
+                double t = hit_rect(&cam, d, &both, &s, &q, &in);
+                if (t < 0 || in < 0.25 * pixel_size(&cam, t))
+                    continue;
+                double x = -2 + 4 * s;
+                double spacing = x < 0 ? 0.5 : 0.25; /* 2 m over 4 and over 8 intervals */
+                double xs = round(x / spacing) * spacing;
+                /* Skip pixels near a boundary between two element squares. */
+                if (fabs(fabs(x - xs) - 0.5 * spacing) < 0.25 * pixel_size(&cam, t) ||
+                    fabs(x) < 0.25 * pixel_size(&cam, t))
+                    continue;
+                n++;
+                wrong += fabs(p[0] - linear_f(xs, 0)) > 1e-5 * linear_f(xs, 0);
+            }
+        }
+        CHECK(n > W * H / 4 && wrong == 0,
+              "nearest: %u of %u pixels do not show their nearest sample", wrong, n);
+        free(img);
+    }
+    xrad_atlas_destroy(&atlas);
+    xrad_scene_destroy(&scene);
+}
+
+/* ------------------------------------------------------- (d) depth */
+
+static void depth_value(const surface *sf, uint32_t i, uint32_t j, float rgb[3])
+{
+    float v = sf->nu == 4 ? 7.0f : 2.0f; /* near quad 7, far quad 2 */
+    rgb[0] = rgb[1] = rgb[2] = v;
+}
+
+/* The far quad is listed first so that draw order cannot explain a pass. */
+static const char *depth_scene =
+    "{\"unit\": \"m\","
+    " \"materials\": [{\"name\": \"grey\", \"albedo\": [0.5, 0.5, 0.5]}],"
+    " \"objects\": [{\"name\": \"o\", \"surfaces\": ["
+    "  {\"name\": \"far\", \"material\": \"grey\", \"elements\": [3, 3],"
+    "   \"quad\": {\"origin\": [-1.5, -1, -1], \"u\": [2.5, 0, 0], \"v\": [0, 2, 0]}},"
+    "  {\"name\": \"near\", \"material\": \"grey\", \"elements\": [4, 4],"
+    "   \"quad\": {\"origin\": [-0.5, -0.5, 0.5], \"u\": [2, 0, 0], \"v\": [0, 1.2, 0]}}]}],"
+    " \"camera\": {\"position\": [0, 0, 5], \"look_at\": [0, 0, 0], \"up\": [0, 1, 0],"
+    "  \"fov_degrees\": 50, \"width\": 64, \"height\": 64}}";
+
+static void test_depth(xrad_context *ctx, gpu_timer *timer)
+{
+    xrad_scene *scene = parse(depth_scene);
+    if (!scene)
+        return;
+    xrad_atlas atlas;
+    xrad_error err = {0};
+    CHECK(xrad_atlas_create(scene, &atlas, &err) == XRAD_OK, "atlas: %s", err.message);
+    for (uint32_t s = 0; s < scene->surface_count; s++)
+        fill_surface(scene, &atlas, s, depth_value);
+    const rect rects[2] = {{{-1.5, -1, -1}, {2.5, 0, 0}, {0, 2, 0}},
+                           {{-0.5, -0.5, 0.5}, {2, 0, 0}, {0, 1.2, 0}}};
+    const float values[2] = {2.0f, 7.0f};
+    pinhole cam = make_pinhole(5, 50, 64, 64);
+    float *img = render(ctx, scene, &atlas, DISPLAY_FILTER_LINEAR_SHADER, 64, 64, timer);
+    if (img) {
+        uint32_t n[2] = {0, 0}, wrong = 0;
+        for (uint32_t py = 0; py < 64; py++) {
+            for (uint32_t px = 0; px < 64; px++) {
+                double d[3], best = INFINITY, s, q, in;
+                int which = -1, ambiguous = 0;
+                pixel_ray(&cam, px, py, d);
+                for (int r = 0; r < 2; r++) {
+                    double t = hit_rect(&cam, d, &rects[r], &s, &q, &in);
+                    if (t < 0)
+                        continue;
+                    double margin = 1.5 * pixel_size(&cam, t);
+                    ambiguous |= fabs(in) < margin;
+                    if (in >= margin && t < best) {
+                        best = t;
+                        which = r;
+                    }
+                }
+                if (ambiguous || which < 0)
+                    continue;
+                n[which]++;
+                wrong += img[4 * (py * 64 + px)] != values[which];
+            }
+        }
+        CHECK(n[0] > 100 && n[1] > 100 && wrong == 0,
+              "depth: %u of %u + %u pixels show the wrong surface", wrong, n[0], n[1]);
+        free(img);
+    }
+    xrad_atlas_destroy(&atlas);
+    xrad_scene_destroy(&scene);
+}
+
+int main(void)
+{
+    xrad_context *ctx = gpu_test_context();
+    if (!ctx)
+        return test_finish();
+    gpu_timer *timer = NULL;
+    xrad_error err = {0};
+    CHECK(gpu_timer_create(ctx, 4, &timer, &err) == XRAD_OK, "timer: %s", err.message);
+    test_constant(ctx);
+    test_seam(ctx);
+    if (timer) {
+        test_depth(ctx, timer);
+        if (timer->supported) {
+            CHECK(timer->totals[0].count == 1 && gpu_timer_total_ms(timer, "display") > 0,
+                  "display pass timed %u times, %.3g ms", timer->totals[0].count,
+                  gpu_timer_total_ms(timer, "display"));
+            fprintf(stderr, "display pass, 64 x 64: %.3f ms\n",
+                    gpu_timer_total_ms(timer, "display"));
+        }
+    }
+    gpu_timer_destroy(ctx, &timer);
+    gpu_test_end(&ctx);
+    return test_finish();
+}
