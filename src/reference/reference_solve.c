@@ -101,6 +101,9 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
         g->surface_elements[s] = sf->nu * sf->nv;
     }
     g->scale = ns ? v3_len(v3_sub(hi, lo)) : 1;
+    /* Occluder culling treats a quad within this of a visibility pyramid as
+     * touching it: far above the rounding of the plane tests (1e-16 of the
+     * scene), far below anything a ray could resolve. */
     g->tol = 1e-9 * g->scale;
 
     for (uint32_t e = 0; e < ne; e++) {
