@@ -1,0 +1,25 @@
+#!/bin/sh
+# The whole test suite under AddressSanitizer and UndefinedBehaviorSanitizer,
+# with leak detection on, in build-asan:
+#   tools/sanitize.sh                  every test
+#   tools/sanitize.sh --suite core     extra arguments go to `meson test`
+#   tools/sanitize.sh --setup sync     ... also with synchronization validation
+# Any sanitizer report fails its test. The Vulkan drivers stay loaded until
+# exit (src/gpu/driver_pin.c), so their unload causes no false leak and no
+# suppression list is needed. CC picks the compiler (default: cc, gcc).
+set -eu
+cd "$(dirname "$0")/.."
+
+if [ -f build-asan/build.ninja ]; then
+    meson setup --reconfigure build-asan >/dev/null
+else
+    meson setup build-asan -Db_sanitize=address,undefined -Db_lundef=false >/dev/null
+fi
+meson compile -C build-asan >/dev/null
+
+# meson test would otherwise set its own ASAN_OPTIONS (no leak option);
+# abort_on_error makes every report a failed test. UBSAN_OPTIONS comes from
+# tests/meson.build (halt_on_error=1).
+ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:abort_on_error=1:print_summary=1
+export ASAN_OPTIONS
+exec meson test -C build-asan --print-errorlogs "$@"
