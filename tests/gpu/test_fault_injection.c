@@ -89,21 +89,21 @@ static void test_every_failure_point(void)
     gpu_test_end(&ctx);
 }
 
-/* A lost device at submission or at the fence wait: a clear error, every
- * resource freed (for the wait, only after the real work ended), and later
- * work refused. */
-static void test_device_lost(const char *function)
+/* A lost device at submission or at the fence wait, or a wait that runs
+ * past its limit (a hang): a clear error, every resource freed (after a
+ * failed wait, only once the real work ended), and later work refused. */
+static void test_device_lost(const char *function, VkResult result, const char *explanation)
 {
     xrad_context *ctx = gpu_test_context();
     if (!ctx)
         return;
-    gpu_fault_set(ctx, function, 1, VK_ERROR_DEVICE_LOST);
+    gpu_fault_set(ctx, function, 1, result);
     xrad_error err = {0};
     xrad_status s = render(ctx, &err);
     CHECK(s == XRAD_ERROR_SYSTEM, "%s lost: status %d", function, (int)s);
-    CHECK(strstr(err.message, function) && strstr(err.message, "VK_ERROR_DEVICE_LOST") &&
-              strstr(err.message, "lost"),
-          "%s lost: %s", function, err.message);
+    CHECK(strstr(err.message, function) && strstr(err.message, gpu_result_name(result)) &&
+              strstr(err.message, explanation),
+          "%s %s: %s", function, gpu_result_name(result), err.message);
     fprintf(stderr, "message: %s\n", err.message);
     check_clean(ctx, function);
     memset(&err, 0, sizeof(err));
@@ -142,8 +142,9 @@ int main(void)
     for (size_t i = 0; i < (size_t)atlas.width * atlas.height * 4; i++)
         atlas.rgba[i] = 1.0f;
     test_every_failure_point();
-    test_device_lost("vkQueueSubmit");
-    test_device_lost("vkWaitForFences");
+    test_device_lost("vkQueueSubmit", VK_ERROR_DEVICE_LOST, "device was lost");
+    test_device_lost("vkWaitForFences", VK_ERROR_DEVICE_LOST, "device was lost");
+    test_device_lost("vkWaitForFences", VK_TIMEOUT, "did not finish");
     test_env_rule();
     xrad_atlas_destroy(&atlas);
     xrad_scene_destroy(&scene);
