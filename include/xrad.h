@@ -87,7 +87,8 @@ typedef void (*xrad_progress_fn)(void *user, const char *stage, double fraction)
 typedef struct xrad_reference_desc {
     double time;            /* s, scene time at which dynamic objects are posed; default 0 */
     uint32_t rays;          /* visibility rays per element pair; default 16 */
-    double residual;        /* stop when max |delta B| / max B of a sweep < this; default 1e-6 */
+    double residual;        /* stop when, in every RGB channel, max |delta B| / max B of a
+                               sweep < this; default 1e-6 */
     uint32_t max_sweeps;    /* Gauss-Seidel sweeps at most; default 100000 */
     uint32_t threads;       /* worker threads; default: online cores */
     xrad_progress_fn progress;
@@ -142,6 +143,76 @@ typedef struct xrad_device_info {
 /* Calls `fn` once per Vulkan physical device, in enumeration order. */
 xrad_status xrad_devices_list(void (*fn)(void *user, const xrad_device_info *info),
                               void *user, xrad_error *err);
+
+/* ---------------------------------------------------------------- solvers */
+
+typedef enum xrad_method {
+    XRAD_METHOD_GATHER = 1,      /* thesis 4.2, Algorithm 4.1: a radiosity hemicube per element per bounce */
+    XRAD_METHOD_PROGRESSIVE = 2, /* thesis 4.3, Algorithm 4.2 with the improvements of 4.3.3 */
+} xrad_method;
+
+/* "gather", "progressive"; NULL for an unknown method. */
+const char *xrad_method_name(xrad_method method);
+/* The inverse; 0 for an unknown name. */
+xrad_method xrad_method_from_name(const char *name);
+
+/* GPU solver settings. Zero means default in every field. */
+typedef struct xrad_solver_desc {
+    xrad_method method;
+    double time;             /* s, pose of dynamic objects; default 0 */
+    uint32_t hemicube_res;   /* pixels per hemicube face side, even, 8..1024; default 64 */
+    uint32_t msaa;           /* samples of radiosity hemicubes (gather): 1 or 4; default 4 */
+    uint32_t bounces;        /* gather: Jacobi bounces; default 0 = until converged (threshold) */
+    double threshold;        /* stop when the largest unshot power (progressive) or the largest
+                                change of a bounce (gather), relative to the emitted power,
+                                is below this; default 1e-4 */
+    uint32_t batch;          /* progressive: shots recorded per submission (one host wait per
+                                batch); default 32 */
+    uint32_t max_patches;    /* progressive: most shooting patches along a side of a surface
+                                (dynamic shooter subdivision, thesis 4.3.3); default 8 */
+    double subdivide_ratio;  /* progressive: disk form factor subdivided when shooter area /
+                                distance^2 exceeds this (thesis 4.3.3); default 0.1 */
+    uint32_t max_iterations; /* hard stop: shots (progressive) or bounces (gather); default 100000 */
+    uint32_t seed;           /* hemicube rotations (thesis 4.2); default 0 */
+} xrad_solver_desc;
+
+#define XRAD_MAX_PASSES 16
+
+typedef struct xrad_pass_time {
+    char name[48];
+    double ms;      /* GPU time from timestamp queries, summed */
+    uint32_t count; /* intervals summed */
+} xrad_pass_time;
+
+typedef struct xrad_solver_stats {
+    double gpu_ms;         /* sum of all pass times */
+    double wall_ms;        /* host wall time of xrad_solver_solve */
+    uint32_t hemicubes;    /* hemicubes rendered */
+    uint32_t shots;        /* shooting patches shot (progressive) */
+    uint32_t iterations;   /* shots selected (progressive) or bounces (gather) */
+    uint32_t submissions;  /* command buffers submitted */
+    uint32_t host_waits;   /* times the host waited for the GPU */
+    double residual;       /* final unshot power or bounce change, relative */
+    const char *hemicube_path; /* "multiview" or "layered" */
+    uint32_t pass_count;
+    xrad_pass_time passes[XRAD_MAX_PASSES];
+} xrad_solver_stats;
+
+typedef struct xrad_solver xrad_solver;
+
+xrad_status xrad_solver_create(xrad_context *ctx, const xrad_scene *scene,
+                               const xrad_solver_desc *desc, xrad_solver **out,
+                               xrad_error *err);
+/* Accepts NULL and *solver == NULL; sets *solver to NULL. */
+void xrad_solver_destroy(xrad_solver **solver);
+
+/* Restarts from B = E and solves to the desc's threshold. */
+xrad_status xrad_solver_solve(xrad_solver *solver, xrad_error *err);
+
+/* The current solution B in the scene's atlas layout. */
+xrad_status xrad_solver_read(xrad_solver *solver, xrad_atlas *atlas, xrad_error *err);
+
+void xrad_solver_get_stats(const xrad_solver *solver, xrad_solver_stats *stats);
 
 /* ---------------------------------------------------------------- display */
 

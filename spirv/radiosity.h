@@ -1,0 +1,51 @@
+/*
+ * GPU radiosity state shared by C and GLSL: the scene as the solvers' passes
+ * see it, and the tables that pass shooters between them. std430; every
+ * struct is a multiple of 16 bytes made of vec4s and 4-byte scalars, so C
+ * and GLSL agree without padding rules.
+ *
+ * Buffers (one each, indexed by the ids below):
+ *   surfaces[surface]   gpu_surface     world-space geometry at the current pose
+ *   elements[element]   gpu_element     world-space sample points
+ *   materials[material] gpu_material
+ *   B[element], Bu[element]  vec4       total and unshot radiosity, rgb, fp32
+ *   shooters[k]         gpu_shooter     the patches being shot (select pass output)
+ */
+#ifndef XRAD_SPIRV_RADIOSITY_H
+#define XRAD_SPIRV_RADIOSITY_H
+
+#include "shared.h"
+
+/* Quad ids written into ID hemicubes are surface index + 1; 0 is "nothing". */
+#define HEMICUBE_ID_NONE 0u
+
+struct gpu_surface {
+    vec4 corner[4];   /* world xyz of the bilinear corners p0..p3 (scene.h) */
+    vec4 normal_area; /* world unit normal, area m^2 */
+    uint first_element, nu, nv, material;
+    uint object, dynamic, tile_x, tile_y;
+};
+
+struct gpu_element {
+    vec4 pos_area; /* world sample point (corner samples moved inward), area m^2 */
+    vec4 normal;   /* world unit normal of its surface, w = 0 */
+    uint surface, texel_x, texel_y, pad;
+};
+
+struct gpu_material {
+    vec4 albedo;   /* rgb in [0, 1) */
+    vec4 emission; /* rgb W/m^2 */
+};
+
+/* A shooting patch (thesis 4.3.3): a rectangle of elements [i0, i1] x
+ * [j0, j1] of one surface, its centre and frame, and what it shoots. */
+struct gpu_shooter {
+    vec4 pos_area;   /* world centre, patch area m^2 */
+    vec4 normal;     /* world unit normal */
+    vec4 tangent;    /* world unit tangent, randomly rotated about the normal (thesis 4.2) */
+    vec4 radiosity;  /* rgb radiosity shot (area-weighted mean over the patch) */
+    uint surface, i0, i1, j0;
+    uint j1, hemicube, pad0, pad1; /* hemicube: layer block of its ID hemicube */
+};
+
+#endif

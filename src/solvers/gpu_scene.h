@@ -1,0 +1,66 @@
+/*
+ * The scene on the GPU, as every radiosity solver's passes see it: the
+ * buffers of spirv/radiosity.h (surfaces, elements, materials at the current
+ * pose), total and unshot radiosity B and Bu per element (fp32, DESIGN.md
+ * "Data model"), the triangles hemicubes draw (whole surfaces, not
+ * elements: vertex work is the cost on lavapipe), and the radiosity atlas
+ * image the radiosity hemicubes and the display sample.
+ *
+ * Ownership: gpu_scene_create fills a caller-owned struct; gpu_scene_destroy
+ * releases what it holds. The xrad_scene must outlive it.
+ */
+#ifndef XRAD_SOLVERS_GPU_SCENE_H
+#define XRAD_SOLVERS_GPU_SCENE_H
+
+#include <stdint.h>
+
+#include "gpu/buffer.h"
+#include "gpu/image.h"
+#include "scene/scene.h"
+#include "xrad.h"
+
+struct xrad_context;
+
+/* One hemicube vertex: whole surfaces as two triangles each. */
+typedef struct gpu_scene_vertex {
+    float pos[3];     /* m, world */
+    uint32_t surface; /* surface index; ID hemicubes write surface + 1 */
+    float uv[2];      /* atlas coordinate of this corner's element texel centre */
+    float pad[2];
+} gpu_scene_vertex;
+
+typedef struct gpu_scene {
+    const xrad_scene *scene;
+    double time; /* pose the buffers hold */
+    uint32_t surface_count, element_count, material_count;
+    uint32_t vertex_count;     /* 6 per surface, surface-major */
+    gpu_buffer surfaces;       /* struct gpu_surface[surface_count] */
+    gpu_buffer elements;       /* struct gpu_element[element_count] */
+    gpu_buffer materials;      /* struct gpu_material[material_count] */
+    gpu_buffer B, Bu;          /* vec4[element_count] */
+    gpu_buffer vertices;       /* gpu_scene_vertex[vertex_count] */
+    gpu_image atlas;           /* RGBA32F, atlas_width x atlas_height: B by element texel,
+                                  written by the atlas scatter pass (passes/atlas_scatter.h) */
+    double diameter;           /* m, bounding-box diagonal of the scene at `time` */
+} gpu_scene;
+
+/* Uploads the scene posed at `time`, with B = Bu = E. */
+xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, double time,
+                             gpu_scene *out, xrad_error *err);
+
+/* Accepts a zeroed struct; zeroes it. The GPU must be done with it. */
+void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs);
+
+/* Re-uploads the geometry (surfaces, elements, vertices) posed at `time`.
+ * B and Bu are kept. The GPU must not be using those buffers. */
+xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
+                           xrad_error *err);
+
+/* B = Bu = E for every element. */
+xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err);
+
+/* Reads B back into a host atlas (xrad_atlas_create of the same scene). */
+xrad_status gpu_scene_read(struct xrad_context *ctx, gpu_scene *gs, xrad_atlas *atlas,
+                           xrad_error *err);
+
+#endif

@@ -1,0 +1,167 @@
+/* The public solver object: settings, defaults, dispatch to the method. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/error.h"
+#include "gpu/context.h"
+#include "solvers/solver.h"
+
+static const struct {
+    xrad_method method;
+    const char *name;
+    const solver_ops *ops;
+} methods[] = {
+    /* Each method file adds its line here when it lands. */
+    {0, NULL, NULL},
+};
+
+const char *xrad_method_name(xrad_method method)
+{
+    for (size_t i = 0; i < sizeof(methods) / sizeof(methods[0]); i++)
+        if (methods[i].ops && methods[i].method == method)
+            return methods[i].name;
+    return NULL;
+}
+
+xrad_method xrad_method_from_name(const char *name)
+{
+    for (size_t i = 0; name && i < sizeof(methods) / sizeof(methods[0]); i++)
+        if (methods[i].ops && !strcmp(methods[i].name, name))
+            return methods[i].method;
+    return 0;
+}
+
+/* Fills defaults and checks ranges; the messages name the setting. */
+static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
+{
+    if (!xrad_method_name(d->method))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: method %d is unknown", (int)d->method);
+    if (!d->hemicube_res)
+        d->hemicube_res = 64;
+    if (d->hemicube_res < 8 || d->hemicube_res > 1024 || d->hemicube_res % 2)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "solver: hemicube_res must be even and in [8, 1024], got %u",
+                         d->hemicube_res);
+    if (!d->msaa)
+        d->msaa = 4;
+    if (d->msaa != 1 && d->msaa != 4)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: msaa must be 1 or 4, got %u", d->msaa);
+    if (d->threshold == 0)
+        d->threshold = 1e-4;
+    if (!(d->threshold > 0 && d->threshold < 1))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: threshold must be in (0, 1), got %g",
+                         d->threshold);
+    if (!d->batch)
+        d->batch = 32;
+    if (d->batch > 4096)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: batch must be in [1, 4096], got %u",
+                         d->batch);
+    if (!d->max_patches)
+        d->max_patches = 8;
+    if (d->max_patches > 64)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "solver: max_patches must be in [1, 64], got %u", d->max_patches);
+    if (d->subdivide_ratio == 0)
+        d->subdivide_ratio = 0.1;
+    if (!(d->subdivide_ratio > 0 && d->subdivide_ratio <= 1e6))
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "solver: subdivide_ratio must be in (0, 1e6], got %g",
+                         d->subdivide_ratio);
+    if (!d->max_iterations)
+        d->max_iterations = 100000;
+    if (!(d->time == d->time) || d->time > 1e9 || d->time < -1e9)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: time must be finite, got %g", d->time);
+    return XRAD_OK;
+}
+
+xrad_status xrad_solver_create(xrad_context *ctx, const xrad_scene *scene,
+                               const xrad_solver_desc *desc, xrad_solver **out,
+                               xrad_error *err)
+{
+    *out = NULL;
+    xrad_solver_desc d = desc ? *desc : (xrad_solver_desc){0};
+    xrad_status st = settle(&d, err);
+    if (st)
+        return st;
+    xrad_solver *s = calloc(1, sizeof(*s));
+    if (!s)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "solver: out of memory");
+    s->ctx = ctx;
+    s->scene = scene;
+    s->desc = d;
+    for (size_t i = 0; i < sizeof(methods) / sizeof(methods[0]); i++)
+        if (methods[i].ops && methods[i].method == d.method)
+            s->ops = methods[i].ops;
+    if ((st = gpu_scene_create(ctx, scene, d.time, &s->gs, err)) ||
+        (st = gpu_timer_create(ctx, 256, &s->timer, err)) || (st = s->ops->create(s, err))) {
+        xrad_solver_destroy(&s);
+        return st;
+    }
+    *out = s;
+    return XRAD_OK;
+}
+
+void xrad_solver_destroy(xrad_solver **solver)
+{
+    if (!solver || !*solver)
+        return;
+    xrad_solver *s = *solver;
+    if (s->impl)
+        s->ops->destroy(s);
+    gpu_timer_destroy(s->ctx, &s->timer);
+    gpu_scene_destroy(s->ctx, &s->gs);
+    free(s);
+    *solver = NULL;
+}
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+xrad_status xrad_solver_solve(xrad_solver *s, xrad_error *err)
+{
+    const char *path = s->stats.hemicube_path;
+    memset(&s->stats, 0, sizeof(s->stats));
+    s->stats.hemicube_path = path;
+    /* Pass times are per solve. */
+    memset(s->timer->totals, 0, sizeof(s->timer->totals));
+    s->timer->name_count = 0;
+    double t0 = now_ms();
+    xrad_status st = s->ops->solve(s, err);
+    s->stats.wall_ms = now_ms() - t0;
+    return st;
+}
+
+xrad_status xrad_solver_read(xrad_solver *s, xrad_atlas *atlas, xrad_error *err)
+{
+    return gpu_scene_read(s->ctx, &s->gs, atlas, err);
+}
+
+void xrad_solver_get_stats(const xrad_solver *s, xrad_solver_stats *stats) { *stats = s->stats; }
+
+void solver_collect_times(xrad_solver *s)
+{
+    const gpu_timer *t = s->timer;
+    for (uint32_t i = 0; i < t->name_count; i++) {
+        xrad_pass_time *p = NULL;
+        for (uint32_t k = 0; k < s->stats.pass_count; k++)
+            if (!strcmp(s->stats.passes[k].name, t->totals[i].name))
+                p = &s->stats.passes[k];
+        if (!p && s->stats.pass_count < XRAD_MAX_PASSES) {
+            p = &s->stats.passes[s->stats.pass_count++];
+            snprintf(p->name, sizeof(p->name), "%s", t->totals[i].name);
+        }
+        if (p) {
+            p->ms = t->totals[i].ms;
+            p->count = t->totals[i].count;
+        }
+    }
+    s->stats.gpu_ms = 0;
+    for (uint32_t k = 0; k < s->stats.pass_count; k++)
+        s->stats.gpu_ms += s->stats.passes[k].ms;
+}

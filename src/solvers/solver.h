@@ -1,0 +1,40 @@
+/*
+ * What every GPU solver shares: the context, the scene on the GPU, the
+ * pass timer and the statistics; and the table of operations each method
+ * file (gather.c, progressive.c, ...) provides. DESIGN.md "Layers": solvers
+ * sit above passes, each method in its own file.
+ */
+#ifndef XRAD_SOLVERS_SOLVER_H
+#define XRAD_SOLVERS_SOLVER_H
+
+#include "gpu/timer.h"
+#include "solvers/gpu_scene.h"
+#include "xrad.h"
+
+typedef struct solver_ops {
+    /* Builds the method's passes and state in s->impl. */
+    xrad_status (*create)(struct xrad_solver *s, xrad_error *err);
+    /* From B = E to convergence; fills the counters of s->stats. */
+    xrad_status (*solve)(struct xrad_solver *s, xrad_error *err);
+    /* Releases s->impl; the GPU must be done with it. */
+    void (*destroy)(struct xrad_solver *s);
+} solver_ops;
+
+struct xrad_solver {
+    struct xrad_context *ctx;
+    const xrad_scene *scene;
+    xrad_solver_desc desc; /* defaults filled in */
+    gpu_scene gs;
+    gpu_timer *timer;
+    xrad_solver_stats stats;
+    const solver_ops *ops;
+    void *impl;
+};
+
+extern const solver_ops gather_ops;
+extern const solver_ops progressive_ops;
+
+/* Adds the timer's per-pass totals into s->stats.passes and gpu_ms. */
+void solver_collect_times(struct xrad_solver *s);
+
+#endif
