@@ -26,7 +26,36 @@ typedef struct ctx {
     double density;      /* scene default, per m */
     uint64_t elements;   /* so far, for the limit */
     uint32_t surface_cap;
+    struct name_ref *material_index; /* materials sorted by name, for lookups */
 } ctx;
+
+/* Names are checked for duplicates and looked up through sorted indexes, so
+ * that large scenes cost n log n, not n^2. */
+typedef struct name_ref {
+    const char *name;
+    uint32_t index;
+} name_ref;
+
+static int name_ref_cmp(const void *pa, const void *pb)
+{
+    const name_ref *a = pa, *b = pb;
+    int c = strcmp(a->name, b->name);
+    if (c)
+        return c;
+    return a->index < b->index ? -1 : a->index > b->index;
+}
+
+/* Sorts refs; returns the position in refs of the second of the first
+ * duplicate pair (by index order of the pairs found), or n if none. */
+static uint32_t sort_find_duplicate(name_ref *refs, uint32_t n)
+{
+    qsort(refs, n, sizeof(*refs), name_ref_cmp);
+    uint32_t dup = n;
+    for (uint32_t k = 1; k < n; k++)
+        if (!strcmp(refs[k - 1].name, refs[k].name) && (dup == n || refs[k].index < refs[dup].index))
+            dup = k;
+    return dup;
+}
 
 XRAD_PRINTF(3, 4)
 static xrad_status fail(ctx *c, const char *field, const char *fmt, ...)
@@ -242,9 +271,6 @@ static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index, xrad_s
     snprintf(c->where, sizeof(c->where), "material '%s': ", m->name);
     if ((st = check_keys(c, j, "", keys)))
         return st;
-    for (uint32_t k = 0; k < index; k++)
-        if (!strcmp(sc->materials[k].name, m->name))
-            return fail(c, "name", "duplicate material name '%s'", m->name);
     if ((st = get_vec3(c, j, "albedo", "albedo", true, &m->albedo, NULL)))
         return st;
     double a[3] = {m->albedo.x, m->albedo.y, m->albedo.z};
@@ -286,15 +312,6 @@ static xrad_status grow_surfaces(ctx *c, xrad_scene *sc, uint32_t add)
                          cap);
     sc->surfaces = s;
     c->surface_cap = cap;
-    return XRAD_OK;
-}
-
-static xrad_status check_unique_surface(ctx *c, const xrad_scene *sc, uint32_t first,
-                                        const char *name)
-{
-    for (uint32_t k = first; k < sc->surface_count; k++)
-        if (!strcmp(sc->surfaces[k].name, name))
-            return fail(c, "name", "duplicate surface name '%s' in this object", name);
     return XRAD_OK;
 }
 
@@ -388,8 +405,7 @@ static xrad_status parse_vertices(ctx *c, const cJSON *g, vec3 p[4])
  * vertex order is chosen so that its normal points away from the box's
  * centre (towards it with "inward"). */
 static xrad_status add_box(ctx *c, xrad_scene *sc, uint32_t obj, uint32_t mat, const char *name,
-                           uint32_t first_surface, const cJSON *g, bool inward,
-                           const surface_opts *o)
+                           const cJSON *g, bool inward, const surface_opts *o)
 {
     static const char *const keys[] = {"origin", "u", "v", "w", NULL};
     if (!cJSON_IsObject(g))
@@ -432,8 +448,7 @@ static xrad_status add_box(ctx *c, xrad_scene *sc, uint32_t obj, uint32_t mat, c
                          v3_add(corner, eb)};
             char face[SCENE_NAME_MAX];
             snprintf(face, sizeof(face), "%s.%c%c", name, side ? '+' : '-', axis_name[a]);
-            if ((st = check_unique_surface(c, sc, first_surface, face)) ||
-                (st = grow_surfaces(c, sc, 1)) ||
+            if ((st = grow_surfaces(c, sc, 1)) ||
                 (st = add_quad(c, sc, obj, mat, face, p, "box", o, ca, cb)))
                 return st;
         }
@@ -458,18 +473,26 @@ static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, xrad_sc
     snprintf(c->where, sizeof(c->where), "%ssurface '%s': ", object_where, name);
     if ((st = check_keys(c, j, "", keys)))
         return st;
-    uint32_t first = sc->objects[obj].first_surface;
-    if (!box && (st = check_unique_surface(c, sc, first, name)))
-        return st;
 
     char mat_name[SCENE_NAME_MAX];
     if ((st = get_name(c, j, "material", "material", 0, mat_name)))
         return st;
-    uint32_t mat = 0;
-    while (mat < sc->material_count && strcmp(sc->materials[mat].name, mat_name))
-        mat++;
-    if (mat == sc->material_count)
+    name_ref key = {mat_name, 0};
+    const name_ref *found = NULL;
+    /* Any entry with the name will do: duplicates were rejected. */
+    for (uint32_t lo = 0, hi = sc->material_count; lo < hi && !found;) {
+        uint32_t mid = lo + (hi - lo) / 2;
+        int cmp = strcmp(key.name, c->material_index[mid].name);
+        if (cmp == 0)
+            found = &c->material_index[mid];
+        else if (cmp < 0)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    if (!found)
         return fail(c, "material", "unknown material '%s'", mat_name);
+    uint32_t mat = found->index;
 
     const cJSON *quad = member(j, "quad"), *verts = member(j, "vertices");
     int kinds = (quad != NULL) + (verts != NULL) + (box != NULL);
@@ -505,7 +528,7 @@ static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, xrad_sc
     }
 
     if (box)
-        return add_box(c, sc, obj, mat, name, first, box, inward, &o);
+        return add_box(c, sc, obj, mat, name, box, inward, &o);
     vec3 p[4];
     if ((st = quad ? parse_quad_geometry(c, quad, p) : parse_vertices(c, verts, p)) ||
         (st = grow_surfaces(c, sc, 1)))
@@ -598,9 +621,6 @@ static xrad_status parse_object(ctx *c, const cJSON *j, uint32_t index, xrad_sce
     snprintf(c->where, sizeof(c->where), "%s", where);
     if ((st = check_keys(c, j, "", keys)))
         return st;
-    for (uint32_t k = 0; k < index; k++)
-        if (!strcmp(sc->objects[k].name, ob->name))
-            return fail(c, "name", "duplicate object name '%s'", ob->name);
     if ((st = get_bool(c, j, "dynamic", "dynamic", &ob->dynamic)))
         return st;
 
@@ -651,6 +671,20 @@ static xrad_status parse_object(ctx *c, const cJSON *j, uint32_t index, xrad_sce
         if ((st = parse_surface(c, it, k, sc, index, density, where)))
             return st;
     ob->surface_count = sc->surface_count - ob->first_surface;
+    name_ref *refs = malloc(ob->surface_count * sizeof(*refs));
+    if (!refs)
+        return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->file);
+    for (uint32_t s = 0; s < ob->surface_count; s++)
+        refs[s] = (name_ref){sc->surfaces[ob->first_surface + s].name, s};
+    uint32_t dup = sort_find_duplicate(refs, ob->surface_count);
+    if (dup < ob->surface_count) {
+        snprintf(c->where, sizeof(c->where), "%ssurface '%s': ", where, refs[dup].name);
+        st = fail(c, "name", "duplicate surface name '%s' in this object (box faces are named "
+                  "<box>.-u, <box>.+u, ...)", refs[dup].name);
+    }
+    free(refs);
+    if (st)
+        return st;
 
     if (ob->cross_density > 0) {
         uint64_t n = 0;
@@ -770,6 +804,15 @@ static xrad_status parse_root(ctx *c, const cJSON *root, xrad_scene *sc)
             return st;
         sc->material_count = k + 1;
     }
+    if (!(c->material_index = malloc(sc->material_count * sizeof(name_ref))))
+        return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->file);
+    for (k = 0; k < sc->material_count; k++)
+        c->material_index[k] = (name_ref){sc->materials[k].name, k};
+    uint32_t dup = sort_find_duplicate(c->material_index, sc->material_count);
+    if (dup < sc->material_count) {
+        snprintf(c->where, sizeof(c->where), "material '%s': ", c->material_index[dup].name);
+        return fail(c, "name", "duplicate material name '%s'", c->material_index[dup].name);
+    }
 
     c->where[0] = '\0';
     const cJSON *objs = member(root, "objects");
@@ -789,6 +832,19 @@ static xrad_status parse_root(ctx *c, const cJSON *root, xrad_scene *sc)
         if ((st = parse_object(c, it, k, sc)))
             return st;
     }
+    name_ref *refs = malloc(sc->object_count * sizeof(*refs));
+    if (!refs)
+        return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->file);
+    for (k = 0; k < sc->object_count; k++)
+        refs[k] = (name_ref){sc->objects[k].name, k};
+    dup = sort_find_duplicate(refs, sc->object_count);
+    if (dup < sc->object_count) {
+        snprintf(c->where, sizeof(c->where), "object '%s': ", refs[dup].name);
+        st = fail(c, "name", "duplicate object name '%s'", refs[dup].name);
+    }
+    free(refs);
+    if (st)
+        return st;
 
     sc->cam = (camera){.up = v3(0, 1, 0), .width = 512, .height = 512};
     const cJSON *cam = member(root, "camera");
@@ -855,6 +911,7 @@ xrad_status xrad_scene_parse(const char *json, size_t len, const char *name, xra
     snprintf(sc->path, sizeof(sc->path), "%s", name);
     ctx c = {.file = name, .err = err};
     xrad_status st = parse_root(&c, root, sc);
+    free(c.material_index);
     cJSON_Delete(root);
     if (!st)
         st = scene_build_elements(sc, err);
