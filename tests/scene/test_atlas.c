@@ -191,5 +191,52 @@ int main(void)
         CHECK(matched == 9, "edge samples compared: %u", matched);
         xrad_scene_destroy(&sc);
     }
+    /* Boxes: six faces named <name>.-u ... <name>.+w, normals out of the
+     * box (into it with "inward"), whatever the handedness of u, v, w;
+     * total area 2 (ab + bc + ca); explicit counts follow the edges. */
+    for (int variant = 0; variant < 3; variant++) {
+        static const char *const boxes[] = {
+            "\"box\": {\"origin\": [1, 2, 3], \"u\": [2, 0, 0], \"v\": [0, 3, 0], \"w\": [0, 0, 4]}",
+            "\"box\": {\"origin\": [1, 2, 3], \"u\": [2, 0, 0], \"v\": [0, 0, 4], \"w\": [0, 3, 0]}",
+            "\"inward\": true, \"box\": {\"origin\": [1, 2, 3], \"u\": [2, 0, 0], "
+            "\"v\": [0, 3, 0], \"w\": [0, 0, 4]}",
+        };
+        char json[1024];
+        snprintf(json, sizeof(json),
+                 "{\"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5]}], "
+                 "\"objects\": [{\"name\": \"o\", \"surfaces\": [{\"name\": \"b\", "
+                 "\"material\": \"m\", \"elements\": [3, 4, 5], %s}]}]}",
+                 boxes[variant]);
+        sc = parse(json);
+        if (!sc)
+            continue;
+        CHECK(sc->surface_count == 6, "box: %u faces", sc->surface_count);
+        vec3 centre = v3(2, 3.5, 5);
+        double area = 0;
+        static const char *const names[] = {"b.-u", "b.+u", "b.-v", "b.+v", "b.-w", "b.+w"};
+        for (uint32_t i = 0; i < sc->surface_count && i < 6; i++) {
+            const surface *s = &sc->surfaces[i];
+            CHECK(!strcmp(s->name, names[i]), "face %u named %s, want %s", i, s->name, names[i]);
+            vec3 mid = surface_point(s, 0.5, 0.5);
+            double out = v3_dot(s->normal, v3_sub(mid, centre));
+            CHECK(variant == 2 ? out < 0 : out > 0, "box %d face %s: normal (%g %g %g) %s", variant,
+                  s->name, s->normal.x, s->normal.y, s->normal.z,
+                  variant == 2 ? "points out" : "points in");
+            area += s->area;
+            /* Samples along an edge of length 2, 3, 4 (u, v, w of the first
+             * variant; the second swaps v and w): 3, 4, 5 as given. */
+            double lu = v3_len(v3_sub(s->p[1], s->p[0])), lv = v3_len(v3_sub(s->p[3], s->p[0]));
+            uint32_t want_u = (uint32_t)lu + 1, want_v = (uint32_t)lv + 1;
+            if (variant == 1) {
+                want_u = lu == 2 ? 3 : lu == 4 ? 4 : 5;
+                want_v = lv == 2 ? 3 : lv == 4 ? 4 : 5;
+            }
+            CHECK(s->nu == want_u && s->nv == want_v, "box %d face %s: %u x %u, edges %g x %g",
+                  variant, s->name, s->nu, s->nv, lu, lv);
+        }
+        CHECK_REL(area, 2 * (2 * 3 + 3 * 4 + 2 * 4), 1e-12);
+        check_area_sums("box", sc);
+        xrad_scene_destroy(&sc);
+    }
     return test_finish();
 }
