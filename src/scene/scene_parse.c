@@ -687,12 +687,13 @@ static xrad_status parse_object(ctx *c, const cJSON *j, uint32_t index, xrad_sce
         return st;
 
     if (ob->cross_density > 0) {
-        uint64_t n = 0;
+        /* In double: a long edge at a high density overflows any integer. */
+        double n = 0;
         for (uint32_t s = ob->first_surface; s < sc->surface_count; s++) {
             double lu, lv;
             scene_quad_edge_lengths(&sc->surfaces[s], &lu, &lv);
-            n += (uint64_t)(scene_samples_along(lu, ob->cross_density) *
-                            scene_samples_along(lv, ob->cross_density));
+            n += scene_samples_along(lu, ob->cross_density) *
+                 scene_samples_along(lv, ob->cross_density);
             if (n > SCENE_MAX_ELEMENTS) {
                 snprintf(c->where, sizeof(c->where), "%s", where);
                 return fail(c, "cross_density", "gives more than %u elements",
