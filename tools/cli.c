@@ -115,6 +115,16 @@ int cli_usage_error(const char *command, const char *fmt, ...)
     return 1;
 }
 
+xrad_status cli_fail(xrad_error *err, xrad_status status, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(err->message, sizeof(err->message), fmt, ap);
+    va_end(ap);
+    err->status = status;
+    return status;
+}
+
 double cli_now(void)
 {
     struct timespec ts;

@@ -15,6 +15,7 @@ int cmd_render(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_devices(int argc, char **argv);
+int cmd_bench(int argc, char **argv);
 
 /* Scans argv for options. Each call to cli_next returns the next option name
  * (without leading dashes) or NULL at the end; positional arguments are
@@ -45,6 +46,13 @@ int cli_report(const xrad_error *err);
 int cli_usage_error(const char *command, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Fills err like the library does and returns status. */
+xrad_status cli_fail(xrad_error *err, xrad_status status, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
 #endif
     ;
 

@@ -163,8 +163,7 @@ int cmd_render(int argc, char **argv)
         if (!path)
             continue;
         if (!cli_make_parent_dirs(path)) {
-            snprintf(err.message, sizeof(err.message), "%s: cannot create its directory", path);
-            err.status = XRAD_ERROR_SYSTEM;
+            cli_fail(&err, XRAD_ERROR_SYSTEM, "%s: cannot create its directory", path);
             goto fail;
         }
         xrad_status st = k == 0 ? xrad_image_write_exr(path, image, w, h, &err)

@@ -929,7 +929,14 @@ xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err)
     *out = NULL;
     FILE *f = fopen(path, "rb");
     if (!f)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: cannot open: %s", path, strerror(errno));
+        /* A file that is not there or not ours to read is the caller's bad
+         * input; anything else (EIO, EMFILE, ...) is the system's. */
+        return xrad_fail(err,
+                         errno == ENOENT || errno == ENOTDIR || errno == EACCES ||
+                                 errno == EISDIR || errno == ENAMETOOLONG || errno == ELOOP
+                             ? XRAD_ERROR_INPUT
+                             : XRAD_ERROR_SYSTEM,
+                         "%s: cannot open: %s", path, strerror(errno));
     size_t cap = 1 << 16, len = 0;
     char *buf = malloc(cap);
     xrad_status st = XRAD_OK;

@@ -145,13 +145,13 @@ int main(void)
            "{\"name\": \"floor\", \"material\": \"white\", " FLOOR_QUAD "}]}]}",
            XRAD_ERROR_INPUT, WANT("field 'unit'", "\"km\""));
 
-    /* A file that cannot be read: a system error with the OS's reason. */
+    /* A file that is not there: the caller's bad input, with the OS's reason. */
     {
         xrad_scene *scene = NULL;
         xrad_error err = {0};
         const char *path = "/nonexistent-dir/missing-scene.json";
         xrad_status st = xrad_scene_load(path, &scene, &err);
-        CHECK(st == XRAD_ERROR_SYSTEM, "unreadable file: status %d (%s)", st, err.message);
+        CHECK(st == XRAD_ERROR_INPUT, "missing file: status %d (%s)", st, err.message);
         CHECK(contains(err.message, path) && contains(err.message, strerror(2)),
               "unreadable file: message %s", err.message);
         CHECK(scene == NULL, "unreadable file returned a scene");
