@@ -1,0 +1,183 @@
+#version 450
+// Select pass, step 2 (src/passes/select.c), one workgroup: the argmax of
+// the surface powers (thesis 4.3.2 FINDSHOOTINGQUAD, done here on the GPU
+// instead of by the depth-buffer trick and a readback), the convergence
+// test (Algorithm 4.2 line 3), the dynamic shooter subdivision of thesis
+// 4.3.3 (GENERATESHOOTINGPATCHES: the patch count follows the power being
+// shot), the shooter table with each patch's mean unshot radiosity and its
+// randomly rotated hemicube frame (thesis 4.2), Algorithm 4.2 line 7 (clear
+// the chosen quad's unshot radiosity), and the indirect parameters that
+// size the next passes. Nothing is read by the host per shot.
+#extension GL_GOOGLE_include_directive : require
+#include "radiosity.h"
+#include "select_shared.h"
+
+layout(local_size_x = SELECT_GROUP) in;
+
+layout(push_constant) uniform Push { select_push pc; };
+
+layout(std430, binding = SELECT_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+layout(std430, binding = SELECT_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
+layout(std430, binding = SELECT_BINDING_BU) buffer Unshot { vec4 Bu[]; };
+layout(std430, binding = SELECT_BINDING_POWER) readonly buffer Power { float power[]; };
+layout(std430, binding = SELECT_BINDING_SHOOTERS) writeonly buffer Shooters { gpu_shooter shooters[]; };
+layout(std430, binding = SELECT_BINDING_STATUS) buffer Status { select_status status; };
+
+shared float s_power[SELECT_GROUP];
+shared uint s_index[SELECT_GROUP];
+shared uint s_surface, s_kx, s_ky, s_first_patch;
+
+const float TWO_PI = 6.28318530717958647692;
+
+// Wellons' lowbias32, as hemicube_rotation() in src/passes/hemicube_geometry.c.
+uint lowbias32(uint x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+vec3 bilinear(gpu_surface sf, float s, float t)
+{
+    return mix(mix(sf.corner[0].xyz, sf.corner[1].xyz, s), mix(sf.corner[3].xyz, sf.corner[2].xyz, s), t);
+}
+
+// Parameter interval covered by samples [i0, i1] of n along one side: each
+// sample stands for half a spacing either side, clipped to [0, 1]
+// (src/scene/scene.h).
+vec2 param_range(uint i0, uint i1, uint n)
+{
+    float h = 1.0 / float(n - 1u);
+    return vec2(max(0.0, (float(i0) - 0.5) * h), min(1.0, (float(i1) + 0.5) * h));
+}
+
+// Patches along s and t: about max_patches^2 x power / max_power in all
+// (so that every patch carries at most about the power of one patch of the
+// brightest shot), shaped to the surface's aspect, at most max_patches and
+// the element count per side, at most max_shooters in all.
+uvec2 patch_counts(gpu_surface sf, float power, float max_power)
+{
+    float lu = 0.5 * (distance(sf.corner[0].xyz, sf.corner[1].xyz) + distance(sf.corner[3].xyz, sf.corner[2].xyz));
+    float lv = 0.5 * (distance(sf.corner[0].xyz, sf.corner[3].xyz) + distance(sf.corner[1].xyz, sf.corner[2].xyz));
+    float n = float(pc.max_patches * pc.max_patches) * clamp(power / max_power, 0.0, 1.0);
+    float aspect = lu / lv;
+    uint kx = uint(clamp(ceil(sqrt(n * aspect) - 1e-3), 1.0, float(min(sf.nu, pc.max_patches))));
+    uint ky = uint(clamp(ceil(sqrt(n / aspect) - 1e-3), 1.0, float(min(sf.nv, pc.max_patches))));
+    while (kx * ky > pc.max_shooters) {
+        if (kx >= ky)
+            kx--;
+        else
+            ky--;
+    }
+    return uvec2(kx, ky);
+}
+
+void main()
+{
+    uint t = gl_LocalInvocationIndex;
+
+    // Argmax; ties go to the lowest surface index.
+    float best = -1.0;
+    uint best_index = SELECT_NONE;
+    for (uint s = t; s < pc.surface_count; s += SELECT_GROUP) {
+        float p = power[s];
+        if (p > best) {
+            best = p;
+            best_index = s;
+        }
+    }
+    s_power[t] = best;
+    s_index[t] = best_index;
+    barrier();
+    for (uint w = SELECT_GROUP / 2u; w > 0u; w >>= 1) {
+        if (t < w) {
+            float o = s_power[t + w];
+            uint oi = s_index[t + w];
+            if (o > s_power[t] || (o == s_power[t] && oi < s_index[t])) {
+                s_power[t] = o;
+                s_index[t] = oi;
+            }
+        }
+        barrier();
+    }
+
+    if (t == 0u) {
+        float p = max(s_power[0], 0.0);
+        uint s = s_index[0];
+        float max_power = max(status.max_power, p);
+        status.power = p;
+        status.max_power = max_power;
+        bool done = status.converged != 0u || s == SELECT_NONE || !(p > pc.threshold * max_power);
+        uvec2 k = done ? uvec2(0u) : patch_counts(surfaces[s], p, max_power);
+        uint count = k.x * k.y;
+        status.draw_vertex_count = pc.draw_vertex_count;
+        status.draw_instance_count = count * pc.instances_per_hemicube;
+        status.draw_first_vertex = 0u;
+        status.draw_first_instance = 0u;
+        status.dispatch_x = count > 0u ? (pc.element_count + pc.reconstruct_group - 1u) / pc.reconstruct_group : 0u;
+        status.dispatch_y = 1u;
+        status.dispatch_z = 1u;
+        status.shooter_count = count;
+        status.surface = done ? SELECT_NONE : s;
+        status.kx = k.x;
+        status.ky = k.y;
+        if (done)
+            status.converged = 1u;
+        s_first_patch = status.patches;
+        status.selections += done ? 0u : 1u;
+        status.patches += count;
+        s_surface = done ? SELECT_NONE : s;
+        s_kx = k.x;
+        s_ky = k.y;
+    }
+    barrier();
+    if (s_surface == SELECT_NONE)
+        return;
+
+    gpu_surface sf = surfaces[s_surface];
+    uint kx = s_kx, ky = s_ky;
+    vec3 normal = sf.normal_area.xyz;
+    vec3 u0 = sf.corner[1].xyz - sf.corner[0].xyz;
+    u0 = normalize(u0 - normal * dot(u0, normal));
+    vec3 v0 = cross(normal, u0);
+    for (uint k = t; k < kx * ky; k += SELECT_GROUP) {
+        uint px = k % kx, py = k / kx;
+        uint i0 = px * sf.nu / kx, i1 = (px + 1u) * sf.nu / kx - 1u;
+        uint j0 = py * sf.nv / ky, j1 = (py + 1u) * sf.nv / ky - 1u;
+        vec3 sum = vec3(0.0);
+        float area = 0.0;
+        for (uint j = j0; j <= j1; j++) {
+            for (uint i = i0; i <= i1; i++) {
+                uint e = sf.first_element + j * sf.nu + i;
+                float a = elements[e].pos_area.w;
+                sum += Bu[e].rgb * a;
+                area += a;
+            }
+        }
+        vec2 rs = param_range(i0, i1, sf.nu), rt = param_range(j0, j1, sf.nv);
+        float angle = float(lowbias32(pc.seed * 0x9e3779b9u + s_first_patch + k)) * (TWO_PI / 4294967296.0);
+        gpu_shooter sh;
+        sh.pos_area = vec4(bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y)), area);
+        sh.normal = vec4(normal, 0.0);
+        sh.tangent = vec4(cos(angle) * u0 + sin(angle) * v0, 0.0);
+        sh.radiosity = vec4(sum / area, 0.0);
+        sh.surface = s_surface;
+        sh.i0 = i0;
+        sh.i1 = i1;
+        sh.j0 = j0;
+        sh.j1 = j1;
+        sh.hemicube = k;
+        sh.pad0 = 0u;
+        sh.pad1 = 0u;
+        shooters[k] = sh;
+    }
+    // Every patch has read its unshot radiosity before it is cleared.
+    memoryBarrierBuffer();
+    barrier();
+    uint n = sf.nu * sf.nv;
+    for (uint k = t; k < n; k += SELECT_GROUP)
+        Bu[sf.first_element + k] = vec4(0.0);
+}

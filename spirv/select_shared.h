@@ -1,0 +1,58 @@
+/*
+ * Select pass layouts shared by C (src/passes/select.c) and GLSL
+ * (spirv/select_power.comp, spirv/select.comp): the status block the pass
+ * writes for every shot, and the push constants. Same rules as shared.h:
+ * vec4s and 4-byte scalars only, every struct a multiple of 16 bytes.
+ */
+#ifndef XRAD_SPIRV_SELECT_SHARED_H
+#define XRAD_SPIRV_SELECT_SHARED_H
+
+#include "shared.h"
+
+#define SELECT_BINDING_SURFACES 0
+#define SELECT_BINDING_ELEMENTS 1
+#define SELECT_BINDING_BU 2
+#define SELECT_BINDING_POWER 3
+#define SELECT_BINDING_SHOOTERS 4
+#define SELECT_BINDING_STATUS 5
+#define SELECT_BINDING_COUNT 6
+
+#define SELECT_POWER_GROUP 64u /* select_power.comp: one invocation per surface */
+#define SELECT_GROUP 256u      /* select.comp: one workgroup does the whole choice */
+#define SELECT_NONE 0xffffffffu
+
+/* Written by every shot; read by the hemicube pass (draw), the reconstruct
+ * pass (dispatch, shooter_count) and, once per batch, by the host.
+ * The host zeroes it before the first shot of a solve. */
+struct select_status {
+    /* VkDrawIndirectCommand of the ID hemicube draw: vertex_count from the
+     * push constants, instance_count = shooter_count x instances_per_hemicube. */
+    uint draw_vertex_count, draw_instance_count, draw_first_vertex, draw_first_instance;
+    /* VkDispatchIndirectCommand of the reconstruct pass (x = 0 when there is
+     * nothing to shoot), then the shooters of this shot. */
+    uint dispatch_x, dispatch_y, dispatch_z, shooter_count;
+    uint surface;   /* chosen this shot; SELECT_NONE when nothing was shot */
+    uint kx, ky;    /* patches along the surface's s and t */
+    uint converged; /* sticky: 1 once the largest power fell to threshold x max_power */
+    float power;     /* luminance of sum_e Bu_e A_e of the surface examined this shot, W */
+    float max_power; /* largest such power seen in this solve (the first shot's) */
+    float pad0, pad1;
+    uint selections; /* shots that shot something, this solve */
+    uint patches;    /* shooting patches (= ID hemicubes) shot, this solve */
+    uint pad2, pad3;
+};
+
+struct select_push {
+    uint surface_count;
+    uint element_count;
+    uint max_patches;   /* most patches along a side (thesis 4.3.3) */
+    uint max_shooters;  /* room in the shooter table and the hemicube image */
+    uint draw_vertex_count;
+    uint instances_per_hemicube;
+    uint seed;          /* hemicube rotations (thesis 4.2) */
+    uint reconstruct_group; /* workgroup size of the reconstruct dispatch */
+    float threshold;    /* converged when power <= threshold x max_power */
+    float pad0, pad1, pad2;
+};
+
+#endif

@@ -1,0 +1,67 @@
+/*
+ * Reconstruct pass (DESIGN.md "GPU passes"; thesis Algorithm 4.2
+ * RECONSTRUCTIONSHADER with the improvements of 4.3.3): one compute
+ * invocation per receiving element loops over all shooters of a shot. An
+ * element receives from a shooter when it lies in front of the shooter and
+ * the shooter lies in front of it, it belongs to another surface, and its
+ * surface's ID (surface + 1) is in the shooter's ID hemicube in the
+ * element's direction or in one of the 8 texels around that one. It then
+ * receives rho_e B_s A_s F, F the disk approximation of thesis eq.
+ * 2.2.7/2.2.8, split into up to 8 x 8 sub-disks over the shooter patch when
+ * A_s / r^2 exceeds the subdivide ratio; the sum over shooters is added to
+ * B and Bu. The dispatch is indirect, sized by the select pass (zero groups
+ * when there is nothing to shoot).
+ */
+#ifndef XRAD_PASSES_RECONSTRUCT_H
+#define XRAD_PASSES_RECONSTRUCT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <vulkan/vulkan.h>
+
+#include "gpu/buffer.h"
+#include "gpu/image.h"
+#include "xrad.h"
+
+struct xrad_context;
+
+typedef struct reconstruct_pass reconstruct_pass;
+
+/* Workgroup size: what select_params.reconstruct_group must say. */
+uint32_t reconstruct_group_size(void);
+
+typedef struct reconstruct_bindings {
+    const gpu_buffer *surfaces, *elements, *materials; /* spirv/radiosity.h */
+    const gpu_buffer *B, *Bu;                          /* vec4[element_count], updated */
+    const gpu_buffer *shooters;                        /* struct gpu_shooter[] */
+    const gpu_buffer *status;                          /* struct select_status */
+    /* R32_UINT 2D array, layer = hemicube * 5 + face, in
+     * SHADER_READ_ONLY_OPTIMAL when the pass runs. */
+    VkImageView hemicubes;
+} reconstruct_bindings;
+
+typedef struct reconstruct_params {
+    uint32_t element_count;
+    uint32_t hemicube_res;  /* pixels per face side of the ID hemicubes */
+    double subdivide_ratio; /* > 0 */
+    bool exact_texel_only;  /* true: no nearest-texel check (for tests) */
+} reconstruct_params;
+
+xrad_status reconstruct_create(struct xrad_context *ctx, reconstruct_pass **out,
+                               xrad_error *err);
+/* Accepts NULL; sets *pass to NULL. The GPU must be done with it. */
+void reconstruct_destroy(struct xrad_context *ctx, reconstruct_pass **pass);
+
+/* Points the pass at its resources. No recording that uses the pass may be
+ * pending on the GPU. */
+void reconstruct_bind(struct xrad_context *ctx, reconstruct_pass *pass,
+                      const reconstruct_bindings *bindings);
+
+/* Records the dispatch, sized by the status's VkDispatchIndirectCommand at
+ * `dispatch_offset` bytes. The caller orders it after the select pass and
+ * the hemicube render, and the next readers of B and Bu after it. */
+void reconstruct_record(reconstruct_pass *pass, VkCommandBuffer cmd,
+                        const reconstruct_params *params, const gpu_buffer *status,
+                        VkDeviceSize dispatch_offset);
+
+#endif

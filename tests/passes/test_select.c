@@ -1,0 +1,446 @@
+/*
+ * Select pass (src/passes/select.h) on lavapipe, against the host:
+ *  - the chosen surface is the CPU argmax of |luminance(sum_e Bu_e A_e)| over
+ *    random unshot radiosities, on a scene of 300 surfaces (more than one
+ *    workgroup's 256 invocations, so the strided scan and the tree both
+ *    count);
+ *  - the patches partition the chosen surface's elements, their areas sum
+ *    to the surface's area and area x radiosity to its unshot power per
+ *    channel (what is shot is exactly what was unshot), their frames are
+ *    orthonormal, their centres lie on the surface;
+ *  - the patch counts follow the documented rule (about max_patches^2 x
+ *    power / max_power patches shaped to the surface, capped per side by
+ *    max_patches and the element counts, in all by max_shooters);
+ *  - Bu of the chosen surface is zero afterwards and every other Bu is
+ *    untouched; the indirect parameters are sized from the patch count;
+ *  - below threshold x the largest power the converged flag is set, the
+ *    counts are zero and nothing changes, also in the shots after.
+ */
+#include <stdint.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "gpu/buffer.h"
+#include "gpu/cmd.h"
+#include "gpu/gpu_test.h"
+#include "passes/select.h"
+#include "radiosity.h"
+#include "scene/scene.h"
+#include "select_shared.h"
+
+#define GROUP 64u
+#define VERTS 123u
+#define INSTANCES 5u
+
+static const double luma[3] = {0.2126, 0.7152, 0.0722};
+
+typedef struct rig {
+    xrad_scene *scene;
+    gpu_buffer surfaces, elements, Bu, shooters, status;
+    select_pass *pass;
+    uint32_t max_shooters;
+} rig;
+
+static uint32_t lcg(uint32_t *state)
+{
+    *state = *state * 1664525u + 1013904223u;
+    return *state >> 8;
+}
+
+static xrad_status host_buffer(xrad_context *ctx, VkDeviceSize size, gpu_buffer *b,
+                               xrad_error *err)
+{
+    xrad_status s = gpu_buffer_create(ctx, size,
+                                      VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                          VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                      GPU_MEM_READBACK, GPU_MEM_OTHER, b, err);
+    if (!s)
+        memset(b->alloc.mapped, 0, size);
+    return s;
+}
+
+/* The scene's world geometry in the layouts of spirv/radiosity.h. */
+static int rig_create(xrad_context *ctx, const char *json, uint32_t max_shooters, rig *r)
+{
+    memset(r, 0, sizeof(*r));
+    xrad_error err = {0};
+    xrad_status st = xrad_scene_parse(json, strlen(json), "select.json", &r->scene, &err);
+    CHECK(st == XRAD_OK, "parse: %s", err.message);
+    if (st)
+        return 0;
+    const xrad_scene *sc = r->scene;
+    r->max_shooters = max_shooters;
+    if ((st = host_buffer(ctx, sc->surface_count * sizeof(struct gpu_surface), &r->surfaces,
+                          &err)) ||
+        (st = host_buffer(ctx, sc->element_count * sizeof(struct gpu_element), &r->elements,
+                          &err)) ||
+        (st = host_buffer(ctx, sc->element_count * sizeof(vec4), &r->Bu, &err)) ||
+        (st = host_buffer(ctx, max_shooters * sizeof(struct gpu_shooter), &r->shooters, &err)) ||
+        (st = host_buffer(ctx, sizeof(struct select_status), &r->status, &err)) ||
+        (st = select_create(ctx, sc->surface_count, &r->pass, &err))) {
+        CHECK(0, "buffers: %s", err.message);
+        return 0;
+    }
+    struct gpu_surface *gs = r->surfaces.alloc.mapped;
+    struct gpu_element *ge = r->elements.alloc.mapped;
+    for (uint32_t s = 0; s < sc->surface_count; s++) {
+        const surface *sf = &sc->surfaces[s];
+        vec3 c[4], n;
+        scene_surface_world(sc, s, 0, c, &n);
+        for (int k = 0; k < 4; k++)
+            gs[s].corner[k] = (vec4){(float)c[k].x, (float)c[k].y, (float)c[k].z, 0};
+        gs[s].normal_area = (vec4){(float)n.x, (float)n.y, (float)n.z, (float)sf->area};
+        gs[s].first_element = sf->first_element;
+        gs[s].nu = sf->nu;
+        gs[s].nv = sf->nv;
+        gs[s].material = sf->material;
+        gs[s].object = sf->object;
+        xform pose = scene_object_pose(sc, sf->object, 0);
+        for (uint32_t e = sf->first_element; e < sf->first_element + sf->nu * sf->nv; e++) {
+            vec3 p = xf_point(&pose, sc->elements[e].pos);
+            ge[e].pos_area = (vec4){(float)p.x, (float)p.y, (float)p.z, (float)sc->elements[e].area};
+            ge[e].normal = (vec4){(float)n.x, (float)n.y, (float)n.z, 0};
+            ge[e].surface = s;
+        }
+    }
+    select_bind(ctx, r->pass,
+                &(select_buffers){&r->surfaces, &r->elements, &r->Bu, &r->shooters, &r->status});
+    return 1;
+}
+
+static void rig_destroy(xrad_context *ctx, rig *r)
+{
+    select_destroy(ctx, &r->pass);
+    gpu_buffer_destroy(ctx, &r->status);
+    gpu_buffer_destroy(ctx, &r->shooters);
+    gpu_buffer_destroy(ctx, &r->Bu);
+    gpu_buffer_destroy(ctx, &r->elements);
+    gpu_buffer_destroy(ctx, &r->surfaces);
+    xrad_scene_destroy(&r->scene);
+}
+
+/* One shot in one submission; the results are in the mapped buffers. */
+static int shoot(xrad_context *ctx, rig *r, uint32_t max_patches, double threshold)
+{
+    xrad_error err = {0};
+    gpu_cmd c;
+    xrad_status st = gpu_cmd_begin(ctx, &c, &err);
+    CHECK(st == XRAD_OK, "begin: %s", err.message);
+    if (st)
+        return 0;
+    select_params p = {
+        .element_count = r->scene->element_count,
+        .max_patches = max_patches,
+        .max_shooters = r->max_shooters,
+        .draw_vertex_count = VERTS,
+        .instances_per_hemicube = INSTANCES,
+        .reconstruct_group = GROUP,
+        .seed = 7,
+        .threshold = threshold,
+    };
+    select_record(r->pass, c.cmd, &p);
+    VkMemoryBarrier host = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
+        .dstAccessMask = VK_ACCESS_HOST_READ_BIT,
+    };
+    vkCmdPipelineBarrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                         0, 1, &host, 0, NULL, 0, NULL);
+    st = gpu_cmd_run(ctx, &c, &err);
+    CHECK(st == XRAD_OK, "run: %s", err.message);
+    gpu_cmd_destroy(ctx, &c);
+    return st == XRAD_OK;
+}
+
+static double surface_power(const rig *r, const vec4 *bu, uint32_t s)
+{
+    const surface *sf = &r->scene->surfaces[s];
+    double sum[3] = {0, 0, 0};
+    for (uint32_t e = sf->first_element; e < sf->first_element + sf->nu * sf->nv; e++) {
+        double a = r->scene->elements[e].area;
+        sum[0] += bu[e].x * a;
+        sum[1] += bu[e].y * a;
+        sum[2] += bu[e].z * a;
+    }
+    return fabs(luma[0] * sum[0] + luma[1] * sum[1] + luma[2] * sum[2]);
+}
+
+static void set_uniform(rig *r, uint32_t s, float v)
+{
+    const surface *sf = &r->scene->surfaces[s];
+    vec4 *bu = r->Bu.alloc.mapped;
+    for (uint32_t e = sf->first_element; e < sf->first_element + sf->nu * sf->nv; e++)
+        bu[e] = (vec4){v, v, v, 0};
+}
+
+/* Everything a shot of surface `s` must satisfy, whatever the counts. */
+static void check_shot(const rig *r, uint32_t s, const vec4 *bu_before, double power)
+{
+    const xrad_scene *sc = r->scene;
+    const surface *sf = &sc->surfaces[s];
+    const struct select_status *st = r->status.alloc.mapped;
+    const struct gpu_shooter *sh = r->shooters.alloc.mapped;
+    const struct gpu_surface *gs = r->surfaces.alloc.mapped;
+    const vec4 *bu = r->Bu.alloc.mapped;
+    uint32_t n = st->kx * st->ky;
+    CHECK(st->surface == s, "chose surface %u, want %u", st->surface, s);
+    CHECK(st->shooter_count == n && n >= 1 && n <= r->max_shooters, "%u shooters, %u x %u",
+          st->shooter_count, st->kx, st->ky);
+    CHECK(st->draw_vertex_count == VERTS && st->draw_instance_count == n * INSTANCES &&
+              st->draw_first_vertex == 0 && st->draw_first_instance == 0,
+          "draw %u %u %u %u", st->draw_vertex_count, st->draw_instance_count,
+          st->draw_first_vertex, st->draw_first_instance);
+    CHECK(st->dispatch_x == (sc->element_count + GROUP - 1) / GROUP && st->dispatch_y == 1 &&
+              st->dispatch_z == 1,
+          "dispatch %u %u %u", st->dispatch_x, st->dispatch_y, st->dispatch_z);
+    CHECK(st->converged == 0, "converged");
+    CHECK_REL(st->power, power, 1e-5);
+    if (st->surface != s || n == 0 || n > r->max_shooters)
+        return;
+
+    double before[3] = {0, 0, 0}, shot[3] = {0, 0, 0}, area = 0;
+    uint32_t *covered = calloc(sf->nu * sf->nv, sizeof(*covered));
+    uint32_t *hemicube = calloc(n, sizeof(*hemicube));
+    for (uint32_t e = sf->first_element; e < sf->first_element + sf->nu * sf->nv; e++) {
+        double a = sc->elements[e].area;
+        before[0] += bu_before[e].x * a;
+        before[1] += bu_before[e].y * a;
+        before[2] += bu_before[e].z * a;
+    }
+    vec3 nrm = v3(gs[s].normal_area.x, gs[s].normal_area.y, gs[s].normal_area.z);
+    vec3 p0 = v3(gs[s].corner[0].x, gs[s].corner[0].y, gs[s].corner[0].z);
+    vec3 eu = v3_sub(v3(gs[s].corner[1].x, gs[s].corner[1].y, gs[s].corner[1].z), p0);
+    vec3 ev = v3_sub(v3(gs[s].corner[3].x, gs[s].corner[3].y, gs[s].corner[3].z), p0);
+    for (uint32_t k = 0; k < n && covered && hemicube; k++) {
+        const struct gpu_shooter *p = &sh[k];
+        CHECK(p->surface == s, "shooter %u on surface %u", k, p->surface);
+        CHECK(p->i0 <= p->i1 && p->i1 < sf->nu && p->j0 <= p->j1 && p->j1 < sf->nv,
+              "shooter %u range [%u %u] x [%u %u]", k, p->i0, p->i1, p->j0, p->j1);
+        if (p->hemicube < n)
+            hemicube[p->hemicube]++;
+        double pa = 0;
+        for (uint32_t j = p->j0; j <= p->j1 && p->j1 < sf->nv; j++)
+            for (uint32_t i = p->i0; i <= p->i1 && p->i1 < sf->nu; i++) {
+                covered[j * sf->nu + i]++;
+                pa += sc->elements[sf->first_element + j * sf->nu + i].area;
+            }
+        CHECK_REL(p->pos_area.w, pa, 1e-5);
+        area += p->pos_area.w;
+        shot[0] += (double)p->radiosity.x * p->pos_area.w;
+        shot[1] += (double)p->radiosity.y * p->pos_area.w;
+        shot[2] += (double)p->radiosity.z * p->pos_area.w;
+        vec3 pn = v3(p->normal.x, p->normal.y, p->normal.z);
+        vec3 pt = v3(p->tangent.x, p->tangent.y, p->tangent.z);
+        CHECK(v3_len(v3_sub(pn, nrm)) < 1e-6, "shooter %u normal differs from the surface's", k);
+        CHECK(fabs(v3_len(pt) - 1) < 1e-5 && fabs(v3_dot(pt, pn)) < 1e-5,
+              "shooter %u tangent not a unit vector in the plane", k);
+        /* The centre lies on the (parallelogram) surface: s, t in [0, 1], on the plane. */
+        vec3 d = v3_sub(v3(p->pos_area.x, p->pos_area.y, p->pos_area.z), p0);
+        double scale = v3_len(eu) + v3_len(ev);
+        CHECK(fabs(v3_dot(d, nrm)) < 1e-5 * scale, "shooter %u centre off the plane", k);
+        double uu = v3_dot(eu, eu), vv = v3_dot(ev, ev), uv = v3_dot(eu, ev);
+        double du = v3_dot(d, eu), dv = v3_dot(d, ev), det = uu * vv - uv * uv;
+        double ps = (du * vv - dv * uv) / det, pt2 = (dv * uu - du * uv) / det;
+        CHECK(ps > 0 && ps < 1 && pt2 > 0 && pt2 < 1, "shooter %u centre at (%g, %g)", k, ps,
+              pt2);
+    }
+    uint32_t bad = 0;
+    for (uint32_t e = 0; covered && e < sf->nu * sf->nv; e++)
+        bad += covered[e] != 1;
+    CHECK(covered && bad == 0, "%u elements covered by no or several patches", bad);
+    uint32_t bad_h = 0;
+    for (uint32_t k = 0; hemicube && k < n; k++)
+        bad_h += hemicube[k] != 1;
+    CHECK(hemicube && bad_h == 0, "hemicube indices are not 0..%u once each", n - 1);
+    free(covered);
+    free(hemicube);
+    CHECK_REL(area, sf->area, 1e-5);
+    for (int c = 0; c < 3; c++)
+        CHECK(fabs(shot[c] - before[c]) <= 1e-5 * fabs(before[c]) + 1e-12,
+              "channel %d: patches shoot %.9g, the surface held %.9g", c, shot[c], before[c]);
+    uint32_t changed = 0, not_zero = 0;
+    for (uint32_t e = 0; e < sc->element_count; e++) {
+        bool own = sc->elements[e].surface == s;
+        if (own)
+            not_zero += bu[e].x != 0 || bu[e].y != 0 || bu[e].z != 0;
+        else
+            changed += memcmp(&bu[e], &bu_before[e], sizeof(vec4)) != 0;
+    }
+    CHECK(not_zero == 0, "%u elements of the chosen surface keep unshot radiosity", not_zero);
+    CHECK(changed == 0, "%u elements of other surfaces changed", changed);
+}
+
+/* 300 small quads in a grid, random unshot radiosity: the argmax. */
+static void test_argmax(xrad_context *ctx)
+{
+    char *json = malloc(64 * 1024);
+    if (!json)
+        return;
+    size_t len = (size_t)snprintf(json, 4096,
+                                  "{\"unit\":\"m\",\"materials\":[{\"name\":\"m\",\"albedo\":"
+                                  "[0.5,0.5,0.5]}],\"objects\":[{\"name\":\"o\",\"surfaces\":[");
+    for (int k = 0; k < 300; k++)
+        len += (size_t)snprintf(json + len, 64 * 1024 - len,
+                                "%s{\"name\":\"q%d\",\"material\":\"m\",\"elements\":[%d,%d],"
+                                "\"quad\":{\"origin\":[%d,%d,0],\"u\":[0.%d,0,0],\"v\":[0,0.9,0]}}",
+                                k ? "," : "", k, 2 + k % 3, 2 + k % 4, k % 20, k / 20, 5 + k % 5);
+    snprintf(json + len, 64 * 1024 - len,
+             "]}],\"camera\":{\"position\":[0,0,5],\"look_at\":[0,0,0],\"up\":[0,1,0],"
+             "\"fov_degrees\":60}}");
+    rig r;
+    if (rig_create(ctx, json, 64, &r)) {
+        uint32_t seed = 12345;
+        for (int trial = 0; trial < 5; trial++) {
+            vec4 *bu = r.Bu.alloc.mapped;
+            for (uint32_t e = 0; e < r.scene->element_count; e++)
+                bu[e] = (vec4){(float)(lcg(&seed) % 1000) / 1000.0f,
+                               (float)(lcg(&seed) % 1000) / 1000.0f,
+                               (float)(lcg(&seed) % 1000) / 1000.0f, 0};
+            memset(r.status.alloc.mapped, 0, sizeof(struct select_status));
+            double best = -1;
+            uint32_t arg = 0;
+            for (uint32_t s = 0; s < r.scene->surface_count; s++) {
+                double p = surface_power(&r, bu, s);
+                if (p > best) {
+                    best = p;
+                    arg = s;
+                }
+            }
+            size_t bytes = r.scene->element_count * sizeof(vec4);
+            vec4 *before = malloc(bytes);
+            if (!before)
+                break;
+            memcpy(before, bu, bytes);
+            if (shoot(ctx, &r, 8, 1e-4)) {
+                const struct select_status *st = r.status.alloc.mapped;
+                /* Float sums may order two near-equal powers differently. */
+                if (st->surface != arg && st->surface < r.scene->surface_count) {
+                    double got = surface_power(&r, before, st->surface);
+                    CHECK(got >= best * (1 - 1e-6),
+                          "trial %d: chose %u (power %.9g), CPU %u (%.9g)", trial, st->surface,
+                          got, arg, best);
+                    arg = st->surface;
+                    best = got;
+                }
+                check_shot(&r, arg, before, best);
+                CHECK(st->selections == 1 && st->patches == st->shooter_count,
+                      "counters %u %u", st->selections, st->patches);
+                CHECK_REL(st->max_power, best, 1e-5);
+            }
+            free(before);
+        }
+    }
+    rig_destroy(ctx, &r);
+    free(json);
+}
+
+/* The patch-count rule: n = max_patches^2 x power / max_power patches,
+ * kx = ceil(sqrt(n lu / lv)), ky = ceil(sqrt(n lv / lu)), each in
+ * [1, min(elements, max_patches)]. */
+static void expect_counts(const surface *sf, double lu, double lv, double ratio, uint32_t mp,
+                          uint32_t *kx, uint32_t *ky)
+{
+    double n = (double)mp * mp * ratio;
+    double x = ceil(sqrt(n * lu / lv) - 1e-3), y = ceil(sqrt(n * lv / lu) - 1e-3);
+    double cx = sf->nu < mp ? sf->nu : mp, cy = sf->nv < mp ? sf->nv : mp;
+    *kx = (uint32_t)fmax(1, fmin(x, cx));
+    *ky = (uint32_t)fmax(1, fmin(y, cy));
+}
+
+static void test_rule(xrad_context *ctx)
+{
+    static const char *json =
+        "{\"unit\":\"m\",\"materials\":[{\"name\":\"m\",\"albedo\":[0.5,0.5,0.5]}],"
+        "\"objects\":[{\"name\":\"o\",\"surfaces\":["
+        "{\"name\":\"square\",\"material\":\"m\",\"elements\":[9,9],"
+        " \"quad\":{\"origin\":[0,0,0],\"u\":[1,0,0],\"v\":[0,1,0]}},"
+        "{\"name\":\"wide\",\"material\":\"m\",\"elements\":[17,5],"
+        " \"quad\":{\"origin\":[2,0,0],\"u\":[2,0,0],\"v\":[0,1,0]}},"
+        "{\"name\":\"small\",\"material\":\"m\",\"elements\":[3,3],"
+        " \"quad\":{\"origin\":[5,0,0],\"u\":[0.5,0,0],\"v\":[0,0.5,0]}},"
+        "{\"name\":\"coarse\",\"material\":\"m\",\"elements\":[2,2],"
+        " \"quad\":{\"origin\":[6,0,0],\"u\":[0,1,0],\"v\":[0,0,1]}},"
+        "{\"name\":\"strip\",\"material\":\"m\",\"elements\":[40,4],"
+        " \"quad\":{\"origin\":[0,3,0],\"u\":[3,0,0],\"v\":[0,0.2,0]}}"
+        "]}],\"camera\":{\"position\":[0,0,5],\"look_at\":[0,0,0],\"up\":[0,1,0],"
+        "\"fov_degrees\":60}}";
+    rig r;
+    if (!rig_create(ctx, json, 64, &r)) {
+        rig_destroy(ctx, &r);
+        return;
+    }
+    const surface *sfs = r.scene->surfaces;
+    /* Uniform Bu chosen so that the powers are P, P/4, P/64, P/2, 1e-5 P:
+     * power = luminance(1) x v x area, and luminance(1, 1, 1) = 1. */
+    const double P = 2.0;
+    set_uniform(&r, 0, (float)(P / sfs[0].area));
+    set_uniform(&r, 1, (float)(P / 4 / sfs[1].area));
+    set_uniform(&r, 2, (float)(P / 64 / sfs[2].area));
+    set_uniform(&r, 3, (float)(P / 2 / sfs[3].area));
+    set_uniform(&r, 4, (float)(1e-5 * P / sfs[4].area));
+    static const uint32_t order[4] = {0, 3, 1, 2};
+    static const double ratio[4] = {1, 0.5, 0.25, 1.0 / 64};
+    static const double lu[4] = {1, 1, 2, 0.5}, lv[4] = {1, 1, 1, 0.5};
+    size_t bytes = r.scene->element_count * sizeof(vec4);
+    vec4 *before = malloc(bytes);
+    uint32_t patches = 0;
+    for (int k = 0; k < 4 && before; k++) {
+        uint32_t s = order[k];
+        memcpy(before, r.Bu.alloc.mapped, bytes);
+        double power = surface_power(&r, before, s);
+        if (!shoot(ctx, &r, 8, 1e-4))
+            break;
+        const struct select_status *st = r.status.alloc.mapped;
+        check_shot(&r, s, before, power);
+        uint32_t kx, ky;
+        expect_counts(&sfs[s], lu[k], lv[k], ratio[k], 8, &kx, &ky);
+        CHECK(st->kx == kx && st->ky == ky, "%s: %u x %u patches, want %u x %u", sfs[s].name,
+              st->kx, st->ky, kx, ky);
+        CHECK_REL(st->max_power, P, 1e-5);
+        patches += kx * ky;
+        CHECK(st->selections == (uint32_t)k + 1 && st->patches == patches, "counters %u %u",
+              st->selections, st->patches);
+    }
+    /* The first shot of a square 9 x 9 surface is 8 x 8 = 64 patches; the
+     * 2 x 2 surface, half as bright, gets 2 x 2 (its element count); the
+     * 2:1 surface at a quarter 6 x 3; the dimmest 1 x 1. */
+    /* Left: the strip, at 1e-5 of the largest power, below the threshold. */
+    for (int again = 0; again < 2 && before; again++) {
+        memcpy(before, r.Bu.alloc.mapped, bytes);
+        if (!shoot(ctx, &r, 8, 1e-4))
+            break;
+        const struct select_status *st = r.status.alloc.mapped;
+        CHECK(st->converged == 1, "not converged at 1e-5 of the largest power");
+        CHECK(st->shooter_count == 0 && st->draw_instance_count == 0 && st->dispatch_x == 0 &&
+                  st->surface == SELECT_NONE,
+              "converged shot: %u shooters, %u instances, %u groups, surface %u",
+              st->shooter_count, st->draw_instance_count, st->dispatch_x, st->surface);
+        CHECK(memcmp(before, r.Bu.alloc.mapped, bytes) == 0, "a converged shot changed Bu");
+        CHECK(st->selections == 4 && st->patches == patches, "counters moved: %u %u",
+              st->selections, st->patches);
+    }
+    free(before);
+    rig_destroy(ctx, &r);
+
+    /* A cap of 10 shooters: the first shot of the square stays within it. */
+    if (rig_create(ctx, json, 10, &r)) {
+        set_uniform(&r, 0, 1.0f);
+        if (shoot(ctx, &r, 8, 1e-4)) {
+            const struct select_status *st = r.status.alloc.mapped;
+            CHECK(st->surface == 0 && st->kx * st->ky <= 10 && st->kx * st->ky >= 6,
+                  "capped: %u x %u", st->kx, st->ky);
+        }
+    }
+    rig_destroy(ctx, &r);
+}
+
+int main(void)
+{
+    xrad_context *ctx = gpu_test_context();
+    if (!ctx)
+        return test_finish();
+    test_argmax(ctx);
+    test_rule(ctx);
+    gpu_test_end(&ctx);
+    return test_finish();
+}
