@@ -36,8 +36,9 @@ fi
 # fuzzer from building (the gcc build keeps -Werror).
 if [ ! -f build-fuzz/build.ninja ]; then
     CC=clang meson setup build-fuzz -Dfuzz=true -Db_sanitize=address,undefined \
-        -Db_lundef=false -Dwerror=false >/dev/null
+        -Db_lundef=false -Dwerror=false
 fi
-ninja -C build-fuzz "tests/fuzz/fuzz_$name" >/dev/null
+ninja -C build-fuzz "tests/fuzz/fuzz_$name" >build-fuzz/compile.log 2>&1 ||
+    { tail -n 40 build-fuzz/compile.log; exit 1; }
 tests/fuzz/run.sh "build-fuzz/tests/fuzz/fuzz_$name" "$name" "$seconds" \
     "build-fuzz/tests/fuzz/out-$name"

@@ -11,11 +11,12 @@ set -eu
 cd "$(dirname "$0")/.."
 
 if [ -f build-asan/build.ninja ]; then
-    meson setup --reconfigure build-asan >/dev/null
+    meson setup --reconfigure build-asan
 else
-    meson setup build-asan -Db_sanitize=address,undefined -Db_lundef=false >/dev/null
+    meson setup build-asan -Db_sanitize=address,undefined -Db_lundef=false
 fi
-meson compile -C build-asan >/dev/null
+meson compile -C build-asan >build-asan/compile.log 2>&1 ||
+    { tail -n 40 build-asan/compile.log; exit 1; }
 
 # meson test would otherwise set its own ASAN_OPTIONS (no leak option);
 # abort_on_error makes every report a failed test. UBSAN_OPTIONS comes from

@@ -14,11 +14,12 @@ if ! command -v valgrind >/dev/null 2>&1; then
     exit 2
 fi
 if [ -f build-valgrind/build.ninja ]; then
-    meson setup --reconfigure build-valgrind >/dev/null
+    meson setup --reconfigure build-valgrind
 else
-    meson setup build-valgrind >/dev/null
+    meson setup build-valgrind
 fi
-meson compile -C build-valgrind >/dev/null
+meson compile -C build-valgrind >build-valgrind/compile.log 2>&1 ||
+    { tail -n 40 build-valgrind/compile.log; exit 1; }
 
 wrapper="valgrind --quiet --error-exitcode=1 --leak-check=full \
 --show-leak-kinds=definite,indirect --errors-for-leak-kinds=definite,indirect \
