@@ -18,15 +18,14 @@
 #define RECONSTRUCT_BINDING_COUNT 8
 
 #define RECONSTRUCT_GROUP 64u /* one invocation per receiving element */
-#define RECONSTRUCT_MAX_SUBDIVISION 8u /* sub-disks per side of a shooter, at most */
 
 struct reconstruct_push {
     uint element_count;
     uint hemicube_res;    /* pixels per face side */
     uint neighbours;      /* 1: nearest-texel visibility check (thesis 4.3.3) */
-    uint max_subdivision; /* sub-disks per side, at most RECONSTRUCT_MAX_SUBDIVISION */
-    float subdivide_ratio; /* subdivide when shooter area / distance^2 exceeds this (4.3.3) */
-    float pad0, pad1, pad2;
+    uint pad0;
+    float subdivide_ratio; /* exact form factor where shooter area / distance^2 exceeds this (4.3.3) */
+    float pad1, pad2, pad3;
 };
 
 #endif

@@ -110,7 +110,6 @@ void reconstruct_record(reconstruct_pass *p, VkCommandBuffer cmd,
         .element_count = params->element_count,
         .hemicube_res = params->hemicube_res,
         .neighbours = params->exact_texel_only ? 0u : 1u,
-        .max_subdivision = RECONSTRUCT_MAX_SUBDIVISION,
         .subdivide_ratio = (float)params->subdivide_ratio,
     };
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,

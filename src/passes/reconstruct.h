@@ -1,16 +1,19 @@
 /*
  * Reconstruct pass (DESIGN.md "GPU passes"; thesis Algorithm 4.2
  * RECONSTRUCTIONSHADER with the improvements of 4.3.3): one compute
- * invocation per receiving element loops over all shooters of a shot. An
- * element receives from a shooter when it lies in front of the shooter and
- * the shooter lies in front of it, it belongs to another surface, and its
- * surface's ID (surface + 1) is in the shooter's ID hemicube in the
- * element's direction or in one of the 8 texels around that one. It then
- * receives rho_e B_s A_s F, F the disk approximation of thesis eq.
- * 2.2.7/2.2.8, split into up to 8 x 8 sub-disks over the shooter patch when
- * A_s / r^2 exceeds the subdivide ratio; the sum over shooters is added to
- * B and Bu. The dispatch is indirect, sized by the select pass (zero groups
- * when there is nothing to shoot).
+ * invocation per receiving element loops over all shooters of a shot. The
+ * receiver point is the centroid of the element's cell (see
+ * spirv/reconstruct.comp for why not the sample on the edge). An element
+ * receives from a shooter when the point lies in front of the shooter and
+ * the shooter's centre in front of the point, it belongs to another
+ * surface, and its surface's ID (surface + 1) is in the shooter's ID
+ * hemicube in the point's direction or in one of the 8 texels around that
+ * one. It then receives rho_e B_s F, F the disk approximation of thesis eq.
+ * 2.2.7/2.2.8 where A_s / r^2 <= subdivide_ratio, and nearer, the limit of
+ * the subdivision of 4.3.3: the exact point-to-quad form factor to the
+ * shooter patch. The sum over shooters is added to B and Bu. The dispatch
+ * is indirect, sized by the select pass (zero groups when there is nothing
+ * to shoot).
  */
 #ifndef XRAD_PASSES_RECONSTRUCT_H
 #define XRAD_PASSES_RECONSTRUCT_H
@@ -43,7 +46,7 @@ typedef struct reconstruct_bindings {
 typedef struct reconstruct_params {
     uint32_t element_count;
     uint32_t hemicube_res;  /* pixels per face side of the ID hemicubes */
-    double subdivide_ratio; /* > 0 */
+    double subdivide_ratio; /* > 0: exact form factor where A_s / r^2 exceeds it */
     bool exact_texel_only;  /* true: no nearest-texel check (for tests) */
 } reconstruct_params;
 
