@@ -50,6 +50,7 @@ ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS ASAN_OPTIONS
 
 log="$out/fuzz-$name.log"
+start=$(date +%s)
 stamp="$out/.started-$name"
 : >"$stamp"
 echo "fuzz $name: $seeds seeds, $seconds s, log $log"
@@ -58,11 +59,12 @@ echo "fuzz $name: $seeds seeds, $seconds s, log $log"
     -error_exitcode=1 -timeout_exitcode=1 -print_final_stats=1 \
     -artifact_prefix="$out/" $dict $quiet "$out/corpus" >"$log" 2>&1
 rc=$?
+elapsed=$(($(date +%s) - start))
 
 execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$log" | tail -n 1)
 rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$log" | tail -n 1)
 added=$(sed -n 's/^stat::new_units_added: *//p' "$log" | tail -n 1)
-echo "fuzz $name: ${execs:-?} executions in $seconds s (${rate:-?}/s), ${added:-?} new corpus inputs"
+echo "fuzz $name: ${execs:-?} executions in $elapsed s (${rate:-?}/s), ${added:-?} new corpus inputs"
 if [ "$rc" -ne 0 ]; then
     echo "fuzz $name: FAILED (libFuzzer exit $rc); end of the log:"
     tail -n 60 "$log"
