@@ -1,0 +1,234 @@
+/*
+ * Progressive refinement radiosity (thesis 4.3, Algorithm 4.2 with the
+ * improvements of 4.3.3; DESIGN.md "Methods"). From B = Bu = E, each shot
+ * selects the surface with the largest unshot power, splits it into
+ * shooting patches sized from that power, renders an ID hemicube per patch
+ * and lets every element gather from all patches of the shot:
+ *
+ *     select (passes/select.h) -> ID hemicubes (passes/hemicube.h, instance
+ *     count from the select pass's indirect draw) -> reconstruct
+ *     (passes/reconstruct.h, indirect dispatch)
+ *
+ * desc.batch shots go into one command buffer with the barriers between
+ * them; the host submits it, waits once, and reads the select pass's status
+ * word once, to stop when the largest unshot power fell to desc.threshold x
+ * the largest emitted power (the select pass then records nothing more) or
+ * after desc.max_iterations shots. Nothing is read back per shot.
+ */
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "gpu/cmd.h"
+#include "gpu/context.h"
+#include "passes/hemicube.h"
+#include "passes/hemicube_geometry.h"
+#include "passes/reconstruct.h"
+#include "passes/select.h"
+#include "radiosity.h"
+#include "select_shared.h"
+#include "solvers/solver.h"
+
+/* Hemicube image memory a solver may hold, all shooters of a shot together. */
+#define MAX_HEMICUBE_BYTES (256ull << 20)
+
+typedef struct progressive {
+    select_pass *select;
+    hemicube_pass *hemicube;
+    reconstruct_pass *reconstruct;
+    gpu_buffer shooters; /* struct gpu_shooter[max_shooters] */
+    gpu_buffer status;   /* struct select_status, host-visible: read once per batch */
+    uint32_t max_shooters;
+    select_params select_params;
+    reconstruct_params reconstruct_params;
+} progressive;
+
+/* Shooters one shot may need: the largest kx x ky of the patch rule over
+ * the scene's surfaces, within the image-array and memory limits. */
+static uint32_t shooter_capacity(const xrad_solver *s)
+{
+    uint32_t mp = s->desc.max_patches, need = 1;
+    for (uint32_t k = 0; k < s->scene->surface_count; k++) {
+        const surface *sf = &s->scene->surfaces[k];
+        uint32_t n = (sf->nu < mp ? sf->nu : mp) * (sf->nv < mp ? sf->nv : mp);
+        need = n > need ? n : need;
+    }
+    uint32_t layers = s->ctx->props.limits.maxImageArrayLayers / HEMICUBE_FACES;
+    uint64_t per = 8ull * s->desc.hemicube_res * s->desc.hemicube_res * HEMICUBE_FACES;
+    uint64_t by_memory = MAX_HEMICUBE_BYTES / per;
+    if (need > layers)
+        need = layers;
+    if (need > by_memory)
+        need = (uint32_t)by_memory;
+    return need ? need : 1;
+}
+
+static void destroy(xrad_solver *s)
+{
+    progressive *p = s->impl;
+    if (!p)
+        return;
+    reconstruct_destroy(s->ctx, &p->reconstruct);
+    hemicube_destroy(s->ctx, &p->hemicube);
+    select_destroy(s->ctx, &p->select);
+    gpu_buffer_destroy(s->ctx, &p->status);
+    gpu_buffer_destroy(s->ctx, &p->shooters);
+    free(p);
+    s->impl = NULL;
+}
+
+static xrad_status create(xrad_solver *s, xrad_error *err)
+{
+    progressive *p = calloc(1, sizeof(*p));
+    if (!p)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "progressive solver: out of host memory");
+    s->impl = p;
+    struct xrad_context *ctx = s->ctx;
+    const gpu_scene *gs = &s->gs;
+    p->max_shooters = shooter_capacity(s);
+    xrad_status st;
+    if ((st = gpu_buffer_create(ctx, (VkDeviceSize)p->max_shooters * sizeof(struct gpu_shooter),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
+                                GPU_MEM_RADIOSITY, &p->shooters, err)) ||
+        (st = gpu_buffer_create(ctx, sizeof(struct select_status),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                    VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                GPU_MEM_READBACK, GPU_MEM_RADIOSITY, &p->status, err)) ||
+        (st = select_create(ctx, gs->surface_count, &p->select, err)) ||
+        (st = hemicube_create(ctx, gs, s->desc.hemicube_res, p->max_shooters, &p->hemicube,
+                              err)) ||
+        (st = reconstruct_create(ctx, &p->reconstruct, err)))
+        goto fail;
+    /* Three timed passes per shot in one command buffer. */
+    if (s->timer->capacity < 3 * s->desc.batch + 1) {
+        gpu_timer_destroy(ctx, &s->timer);
+        if ((st = gpu_timer_create(ctx, 3 * s->desc.batch + 1, &s->timer, err)))
+            goto fail;
+    }
+    select_bind(ctx, p->select,
+                &(select_buffers){&gs->surfaces, &gs->elements, &gs->Bu, &p->shooters,
+                                  &p->status});
+    reconstruct_bind(ctx, p->reconstruct,
+                     &(reconstruct_bindings){&gs->surfaces, &gs->elements, &gs->materials,
+                                             &gs->B, &gs->Bu, &p->shooters, &p->status,
+                                             hemicube_ids_view(p->hemicube)});
+    p->select_params = (select_params){
+        .element_count = gs->element_count,
+        .max_patches = s->desc.max_patches,
+        .max_shooters = p->max_shooters,
+        .draw_vertex_count = gs->vertex_count,
+        .instances_per_hemicube = hemicube_instances_per_hemicube(p->hemicube),
+        .reconstruct_group = reconstruct_group_size(),
+        .seed = s->desc.seed,
+        .threshold = s->desc.threshold,
+    };
+    p->reconstruct_params = (reconstruct_params){
+        .element_count = gs->element_count,
+        .hemicube_res = s->desc.hemicube_res,
+        .subdivide_ratio = s->desc.subdivide_ratio,
+    };
+    s->stats.hemicube_path = hemicube_path_name(p->hemicube);
+    return XRAD_OK;
+
+fail:
+    destroy(s);
+    return st;
+}
+
+static void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                           VkPipelineStageFlags dst, VkAccessFlags dst_access)
+{
+    VkMemoryBarrier b = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = src_access,
+        .dstAccessMask = dst_access,
+    };
+    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, NULL, 0, NULL);
+}
+
+/* One shot of Algorithm 4.2. */
+static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
+{
+    const VkPipelineStageFlags draw_reads = VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+                                            VK_PIPELINE_STAGE_VERTEX_SHADER_BIT;
+    /* The previous shot's reconstruct wrote B and Bu, which select reads and
+     * clears; its hemicube draw and reconstruct read the shooters and the
+     * status that select rewrites. */
+    memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | draw_reads,
+                   VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    gpu_timer_begin(s->timer, cmd, "select");
+    select_record(p->select, cmd, &p->select_params);
+    gpu_timer_end(s->timer, cmd);
+    /* Shooters and status feed the indirect draw, the vertex shader, the
+     * indirect dispatch and the reconstruct shader; the ID image the last
+     * reconstruct sampled is about to be drawn over. */
+    memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                   draw_reads | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                       VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
+                       VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT,
+                   VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+    gpu_timer_begin(s->timer, cmd, "hemicube");
+    hemicube_record_ids(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
+                        offsetof(struct select_status, draw_vertex_count));
+    gpu_timer_end(s->timer, cmd);
+    /* The ID hemicubes are complete before any element looks them up. */
+    memory_barrier(cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                   VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_SHADER_READ_BIT);
+    gpu_timer_begin(s->timer, cmd, "reconstruct");
+    reconstruct_record(p->reconstruct, cmd, &p->reconstruct_params, &p->status,
+                       offsetof(struct select_status, dispatch_x));
+    gpu_timer_end(s->timer, cmd);
+}
+
+static xrad_status solve(xrad_solver *s, xrad_error *err)
+{
+    progressive *p = s->impl;
+    struct xrad_context *ctx = s->ctx;
+    xrad_status st = gpu_scene_reset(ctx, &s->gs, err);
+    if (st)
+        return st;
+    /* gpu_scene_reset submits and waits once. */
+    s->stats.submissions++;
+    s->stats.host_waits++;
+    struct select_status *status = p->status.alloc.mapped;
+    memset(status, 0, sizeof(*status));
+    uint32_t selected = 0;
+    bool done = false;
+    while (!done) {
+        uint32_t n = s->desc.max_iterations - selected;
+        n = n < s->desc.batch ? n : s->desc.batch;
+        gpu_cmd c;
+        if ((st = gpu_cmd_begin(ctx, &c, err)))
+            return st;
+        gpu_timer_start(s->timer, c.cmd);
+        for (uint32_t k = 0; k < n; k++)
+            record_shot(s, p, c.cmd);
+        /* B, Bu and the status are complete for the host (the status read
+         * below) and for later submissions (gpu_scene_read, the next batch). */
+        memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                       VK_ACCESS_HOST_READ_BIT | VK_ACCESS_MEMORY_READ_BIT |
+                           VK_ACCESS_MEMORY_WRITE_BIT);
+        if (!(st = gpu_cmd_submit(ctx, &c, err))) {
+            s->stats.submissions++;
+            st = gpu_cmd_wait(ctx, &c, err);
+            s->stats.host_waits++;
+        }
+        gpu_cmd_destroy(ctx, &c);
+        if (st || (st = gpu_timer_collect(ctx, s->timer, err)))
+            return st;
+        selected = status->selections;
+        done = status->converged || selected >= s->desc.max_iterations;
+    }
+    s->stats.iterations = status->selections;
+    s->stats.shots = status->patches;
+    s->stats.hemicubes = status->patches;
+    s->stats.residual = status->max_power > 0 ? status->power / status->max_power : 0;
+    solver_collect_times(s);
+    return XRAD_OK;
+}
+
+const solver_ops progressive_ops = {create, solve, destroy};
