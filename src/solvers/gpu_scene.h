@@ -40,7 +40,8 @@ typedef struct gpu_scene {
     gpu_buffer B, Bu;          /* vec4[element_count] */
     gpu_buffer vertices;       /* gpu_scene_vertex[vertex_count] */
     gpu_image atlas;           /* RGBA32F, atlas_width x atlas_height: B by element texel,
-                                  written by the atlas scatter pass (passes/atlas_scatter.h) */
+                                  written by the atlas scatter pass (passes/atlas_scatter.h);
+                                  always in VK_IMAGE_LAYOUT_GENERAL (zero after create) */
     double diameter;           /* m, bounding-box diagonal of the scene at `time` */
 } gpu_scene;
 

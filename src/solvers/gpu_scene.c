@@ -1,0 +1,282 @@
+#include "solvers/gpu_scene.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "gpu/cmd.h"
+#include "gpu/context.h"
+#include "radiosity.h"
+
+/* Host copies of the posed geometry, filled by fill_geometry. */
+typedef struct geometry {
+    struct gpu_surface *surfaces;
+    struct gpu_element *elements;
+    gpu_scene_vertex *vertices;
+} geometry;
+
+static void geometry_free(geometry *g)
+{
+    free(g->surfaces);
+    free(g->elements);
+    free(g->vertices);
+    memset(g, 0, sizeof(*g));
+}
+
+static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
+
+/* Buffers cannot be empty; a scene without surfaces still gets one entry. */
+static size_t at_least_one(size_t n) { return n ? n : 1; }
+
+static xrad_status fill_geometry(const xrad_scene *scene, double time, geometry *g,
+                                 double *diameter, xrad_error *err)
+{
+    memset(g, 0, sizeof(*g));
+    g->surfaces = calloc(at_least_one(scene->surface_count), sizeof(*g->surfaces));
+    g->elements = calloc(at_least_one(scene->element_count), sizeof(*g->elements));
+    g->vertices = calloc(at_least_one(6 * (size_t)scene->surface_count), sizeof(*g->vertices));
+    if (!g->surfaces || !g->elements || !g->vertices) {
+        geometry_free(g);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for the GPU scene",
+                         scene->path);
+    }
+    vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    double inv_w = 1.0 / (scene->atlas_width ? scene->atlas_width : 1);
+    double inv_h = 1.0 / (scene->atlas_height ? scene->atlas_height : 1);
+    for (uint32_t s = 0; s < scene->surface_count; s++) {
+        const surface *sf = &scene->surfaces[s];
+        xform pose = scene_object_pose(scene, sf->object, time);
+        vec3 c[4], n;
+        scene_surface_world(scene, s, time, c, &n);
+        struct gpu_surface *gsf = &g->surfaces[s];
+        for (int k = 0; k < 4; k++) {
+            gsf->corner[k] = to_vec4(c[k], 1);
+            lo = v3(fmin(lo.x, c[k].x), fmin(lo.y, c[k].y), fmin(lo.z, c[k].z));
+            hi = v3(fmax(hi.x, c[k].x), fmax(hi.y, c[k].y), fmax(hi.z, c[k].z));
+        }
+        gsf->normal_area = to_vec4(n, sf->area);
+        gsf->first_element = sf->first_element;
+        gsf->nu = sf->nu;
+        gsf->nv = sf->nv;
+        gsf->material = sf->material;
+        gsf->object = sf->object;
+        gsf->dynamic = scene->objects[sf->object].dynamic ? 1u : 0u;
+        gsf->tile_x = sf->tile_x;
+        gsf->tile_y = sf->tile_y;
+
+        for (uint32_t e = 0; e < sf->nu * sf->nv; e++) {
+            const element *el = &scene->elements[sf->first_element + e];
+            struct gpu_element *ge = &g->elements[sf->first_element + e];
+            ge->pos_area = to_vec4(xf_point(&pose, el->pos), el->area);
+            ge->normal = to_vec4(n, 0);
+            ge->surface = s;
+            ge->texel_x = el->texel_x;
+            ge->texel_y = el->texel_y;
+        }
+
+        /* Corners p0..p3 carry the element samples (0, 0), (nu-1, 0),
+         * (nu-1, nv-1), (0, nv-1): the outer texel centres lie on the
+         * surface edges (thesis 4.1), so interpolating uv across the quad
+         * and filtering bilinearly reproduces the element samples. */
+        uint32_t ci[4] = {0, sf->nu - 1, sf->nv * sf->nu - 1, (sf->nv - 1) * sf->nu};
+        static const int tri[6] = {0, 1, 2, 0, 2, 3};
+        for (int k = 0; k < 6; k++) {
+            const element *el = &scene->elements[sf->first_element + ci[tri[k]]];
+            gpu_scene_vertex *v = &g->vertices[6 * (size_t)s + k];
+            v->pos[0] = (float)c[tri[k]].x;
+            v->pos[1] = (float)c[tri[k]].y;
+            v->pos[2] = (float)c[tri[k]].z;
+            v->surface = s;
+            v->uv[0] = (float)((el->texel_x + 0.5) * inv_w);
+            v->uv[1] = (float)((el->texel_y + 0.5) * inv_h);
+        }
+    }
+    *diameter = scene->surface_count ? v3_len(v3_sub(hi, lo)) : 0;
+    return XRAD_OK;
+}
+
+static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, double time,
+                                   xrad_error *err)
+{
+    const xrad_scene *scene = gs->scene;
+    geometry g;
+    double diameter = 0;
+    xrad_status s = fill_geometry(scene, time, &g, &diameter, err);
+    if (s)
+        return s;
+    if (!(s = gpu_upload_buffer(ctx, &gs->surfaces, 0, g.surfaces,
+                                at_least_one(gs->surface_count) * sizeof(*g.surfaces), err)) &&
+        !(s = gpu_upload_buffer(ctx, &gs->elements, 0, g.elements,
+                                at_least_one(gs->element_count) * sizeof(*g.elements), err)) &&
+        !(s = gpu_upload_buffer(ctx, &gs->vertices, 0, g.vertices,
+                                at_least_one(gs->vertex_count) * sizeof(*g.vertices), err))) {
+        gs->time = time;
+        gs->diameter = diameter;
+    }
+    geometry_free(&g);
+    return s;
+}
+
+xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err)
+{
+    const xrad_scene *scene = gs->scene;
+    size_t n = at_least_one(gs->element_count);
+    vec4 *e = calloc(n, sizeof(*e));
+    if (!e)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for emission",
+                         scene->path);
+    for (uint32_t i = 0; i < gs->element_count; i++) {
+        const material *m = &scene->materials[scene->surfaces[scene->elements[i].surface].material];
+        e[i] = to_vec4(m->emission, 0);
+    }
+    xrad_status s = gpu_upload_buffer(ctx, &gs->B, 0, e, n * sizeof(*e), err);
+    if (!s)
+        s = gpu_upload_buffer(ctx, &gs->Bu, 0, e, n * sizeof(*e), err);
+    free(e);
+    return s;
+}
+
+static xrad_status upload_materials(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err)
+{
+    const xrad_scene *scene = gs->scene;
+    size_t n = at_least_one(scene->material_count);
+    struct gpu_material *m = calloc(n, sizeof(*m));
+    if (!m)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for materials",
+                         scene->path);
+    for (uint32_t i = 0; i < scene->material_count; i++) {
+        m[i].albedo = to_vec4(scene->materials[i].albedo, 0);
+        m[i].emission = to_vec4(scene->materials[i].emission, 0);
+    }
+    xrad_status s = gpu_upload_buffer(ctx, &gs->materials, 0, m, n * sizeof(*m), err);
+    free(m);
+    return s;
+}
+
+/* Zeroes the atlas and leaves it in VK_IMAGE_LAYOUT_GENERAL, where it stays:
+ * the atlas scatter pass stores to it and hemicubes sample it. */
+static xrad_status init_atlas(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err)
+{
+    gpu_cmd c;
+    xrad_status s = gpu_cmd_begin(ctx, &c, err);
+    if (s)
+        return s;
+    gpu_image_transition(c.cmd, &gs->atlas, VK_IMAGE_LAYOUT_UNDEFINED, VK_IMAGE_LAYOUT_GENERAL);
+    VkClearColorValue zero = {.float32 = {0, 0, 0, 0}};
+    VkImageSubresourceRange range = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
+    vkCmdClearColorImage(c.cmd, gs->atlas.image, VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
+    gpu_image_barrier(c.cmd, &gs->atlas, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    s = gpu_cmd_run(ctx, &c, err);
+    gpu_cmd_destroy(ctx, &c);
+    return s;
+}
+
+xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, double time,
+                             gpu_scene *out, xrad_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    out->scene = scene;
+    out->surface_count = scene->surface_count;
+    out->element_count = scene->element_count;
+    out->material_count = scene->material_count;
+    out->vertex_count = 6 * scene->surface_count;
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    size_t ns = at_least_one(scene->surface_count), ne = at_least_one(scene->element_count);
+    size_t nm = at_least_one(scene->material_count), nv = at_least_one(out->vertex_count);
+    uint64_t need = ns * sizeof(struct gpu_surface) + ne * sizeof(struct gpu_element) +
+                    nm * sizeof(struct gpu_material) + 2 * ne * sizeof(vec4) +
+                    nv * sizeof(gpu_scene_vertex) +
+                    (uint64_t)at_least_one(scene->atlas_width) *
+                        at_least_one(scene->atlas_height) * 16;
+    gpu_image_desc ad = {
+        .format = VK_FORMAT_R32G32B32A32_SFLOAT,
+        .width = scene->atlas_width ? scene->atlas_width : 1,
+        .height = scene->atlas_height ? scene->atlas_height : 1,
+        .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                 VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+        .category = GPU_MEM_RADIOSITY,
+    };
+    xrad_status s;
+    if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "GPU scene", err)) ||
+        (s = gpu_buffer_create(ctx, ns * sizeof(struct gpu_surface), storage, GPU_MEM_DEVICE,
+                               GPU_MEM_GEOMETRY, &out->surfaces, err)) ||
+        (s = gpu_buffer_create(ctx, ne * sizeof(struct gpu_element), storage, GPU_MEM_DEVICE,
+                               GPU_MEM_GEOMETRY, &out->elements, err)) ||
+        (s = gpu_buffer_create(ctx, nm * sizeof(struct gpu_material), storage, GPU_MEM_DEVICE,
+                               GPU_MEM_GEOMETRY, &out->materials, err)) ||
+        (s = gpu_buffer_create(ctx, ne * sizeof(vec4), storage, GPU_MEM_DEVICE,
+                               GPU_MEM_RADIOSITY, &out->B, err)) ||
+        (s = gpu_buffer_create(ctx, ne * sizeof(vec4), storage, GPU_MEM_DEVICE,
+                               GPU_MEM_RADIOSITY, &out->Bu, err)) ||
+        (s = gpu_buffer_create(ctx, nv * sizeof(gpu_scene_vertex),
+                               storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, GPU_MEM_DEVICE,
+                               GPU_MEM_GEOMETRY, &out->vertices, err)) ||
+        (s = gpu_image_create(ctx, &ad, &out->atlas, err)) ||
+        (s = upload_geometry(ctx, out, time, err)) || (s = upload_materials(ctx, out, err)) ||
+        (s = gpu_scene_reset(ctx, out, err)) || (s = init_atlas(ctx, out, err))) {
+        gpu_scene_destroy(ctx, out);
+        xrad_error_prefix(err, "GPU scene");
+        return s;
+    }
+    return XRAD_OK;
+}
+
+void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
+{
+    if (!gs)
+        return;
+    gpu_image_destroy(ctx, &gs->atlas);
+    gpu_buffer_destroy(ctx, &gs->vertices);
+    gpu_buffer_destroy(ctx, &gs->Bu);
+    gpu_buffer_destroy(ctx, &gs->B);
+    gpu_buffer_destroy(ctx, &gs->materials);
+    gpu_buffer_destroy(ctx, &gs->elements);
+    gpu_buffer_destroy(ctx, &gs->surfaces);
+    memset(gs, 0, sizeof(*gs));
+}
+
+xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
+                           xrad_error *err)
+{
+    if (!isfinite(time))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "GPU scene: pose time is not finite");
+    return upload_geometry(ctx, gs, time, err);
+}
+
+xrad_status gpu_scene_read(struct xrad_context *ctx, gpu_scene *gs, xrad_atlas *atlas,
+                           xrad_error *err)
+{
+    const xrad_scene *scene = gs->scene;
+    if (atlas->width != scene->atlas_width || atlas->height != scene->atlas_height ||
+        (!atlas->rgba && atlas->width && atlas->height))
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: the atlas is %u x %u texels, the scene's is %u x %u", scene->path,
+                         atlas->width, atlas->height, scene->atlas_width, scene->atlas_height);
+    if (!gs->element_count)
+        return XRAD_OK;
+    vec4 *b = malloc(gs->element_count * sizeof(*b));
+    if (!b)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory reading B",
+                         scene->path);
+    xrad_status s =
+        gpu_readback_buffer(ctx, &gs->B, 0, b, gs->element_count * sizeof(*b), err);
+    if (!s) {
+        memset(atlas->rgba, 0, (size_t)atlas->width * atlas->height * 4 * sizeof(float));
+        for (uint32_t i = 0; i < gs->element_count; i++) {
+            const element *el = &scene->elements[i];
+            float *t = &atlas->rgba[((size_t)el->texel_y * atlas->width + el->texel_x) * 4];
+            t[0] = b[i].x;
+            t[1] = b[i].y;
+            t[2] = b[i].z;
+            t[3] = 1.0f;
+        }
+    }
+    free(b);
+    return s;
+}
