@@ -187,12 +187,15 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
 {
     progressive *p = s->impl;
     struct xrad_context *ctx = s->ctx;
+    /* gpu_scene_reset uploads with one-shot copies, each submitted and
+     * waited for (or none where B and Bu are host-visible): count them from
+     * the context's submission counter. */
+    uint64_t before = ctx->timeline_value;
     xrad_status st = gpu_scene_reset(ctx, &s->gs, err);
     if (st)
         return st;
-    /* gpu_scene_reset submits and waits once. */
-    s->stats.submissions++;
-    s->stats.host_waits++;
+    s->stats.submissions += (uint32_t)(ctx->timeline_value - before);
+    s->stats.host_waits += (uint32_t)(ctx->timeline_value - before);
     struct select_status *status = p->status.alloc.mapped;
     memset(status, 0, sizeof(*status));
     uint32_t selected = 0;
