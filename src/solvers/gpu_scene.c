@@ -80,6 +80,10 @@ static xrad_status fill_geometry(const xrad_scene *scene, double time, geometry 
          * surface edges (thesis 4.1), so interpolating uv across the quad
          * and filtering bilinearly reproduces the element samples. */
         uint32_t ci[4] = {0, sf->nu - 1, sf->nv * sf->nu - 1, (sf->nv - 1) * sf->nu};
+        const element *e0 = &scene->elements[sf->first_element];
+        const element *e1 = &scene->elements[sf->first_element + ci[2]];
+        float tile[4] = {(float)((e0->texel_x + 0.5) * inv_w), (float)((e0->texel_y + 0.5) * inv_h),
+                         (float)((e1->texel_x + 0.5) * inv_w), (float)((e1->texel_y + 0.5) * inv_h)};
         static const int tri[6] = {0, 1, 2, 0, 2, 3};
         for (int k = 0; k < 6; k++) {
             const element *el = &scene->elements[sf->first_element + ci[tri[k]]];
@@ -90,6 +94,10 @@ static xrad_status fill_geometry(const xrad_scene *scene, double time, geometry 
             v->surface = s;
             v->uv[0] = (float)((el->texel_x + 0.5) * inv_w);
             v->uv[1] = (float)((el->texel_y + 0.5) * inv_h);
+            memcpy(v->tile, tile, sizeof(tile));
+            v->normal[0] = (float)n.x;
+            v->normal[1] = (float)n.y;
+            v->normal[2] = (float)n.z;
         }
     }
     *diameter = scene->surface_count ? v3_len(v3_sub(hi, lo)) : 0;

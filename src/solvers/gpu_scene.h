@@ -27,6 +27,9 @@ typedef struct gpu_scene_vertex {
     uint32_t surface; /* surface index; ID hemicubes write surface + 1 */
     float uv[2];      /* atlas coordinate of this corner's element texel centre */
     float pad[2];
+    float tile[4];    /* atlas coordinates of the surface tile's first and last texel
+                         centres (u0, v0, u1, v1): lookups clamp to them */
+    float normal[4];  /* world unit normal of the surface's front side, w = 0 */
 } gpu_scene_vertex;
 
 typedef struct gpu_scene {

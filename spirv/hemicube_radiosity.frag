@@ -1,0 +1,43 @@
+#version 450
+// Radiosity hemicube, fragment stage: B of the visible surface point, from
+// the atlas at the interpolated element-texel coordinate (bilinear between
+// element samples, as the display pass shows it; thesis 4.1), times the
+// pass's scale; back sides are black. The coordinate is clamped to the
+// surface's tile so that filtering never reaches a neighbouring tile.
+#extension GL_GOOGLE_include_directive : require
+#include "hemicube_shared.h"
+
+// 1: bilinear from four texelFetch, where the device cannot filter RGBA32F.
+layout(constant_id = 0) const uint SHADER_BILINEAR = 0u;
+
+layout(push_constant) uniform Push { hemicube_push pc; };
+layout(binding = HEMICUBE_BINDING_ATLAS) uniform sampler2D atlas;
+
+layout(location = 0) flat in uint id; // unused: the ID variant writes it
+layout(location = 1) centroid in vec2 uv;
+layout(location = 2) flat in vec4 tile;
+layout(location = 3) flat in float front;
+
+layout(location = 0) out vec4 color;
+
+void main()
+{
+    vec2 p = clamp(uv, tile.xy, tile.zw);
+    vec3 b;
+    if (SHADER_BILINEAR != 0u) {
+        vec2 size = vec2(textureSize(atlas, 0));
+        vec2 t = p * size - 0.5;
+        ivec2 first = ivec2(floor(tile.xy * size)), last = ivec2(floor(tile.zw * size));
+        ivec2 i0 = clamp(ivec2(floor(t)), first, last);
+        ivec2 i1 = min(i0 + 1, last);
+        vec2 f = clamp(t - vec2(i0), 0.0, 1.0);
+        vec3 b00 = texelFetch(atlas, i0, 0).rgb;
+        vec3 b10 = texelFetch(atlas, ivec2(i1.x, i0.y), 0).rgb;
+        vec3 b01 = texelFetch(atlas, ivec2(i0.x, i1.y), 0).rgb;
+        vec3 b11 = texelFetch(atlas, i1, 0).rgb;
+        b = mix(mix(b00, b10, f.x), mix(b01, b11, f.x), f.y);
+    } else {
+        b = texture(atlas, p).rgb;
+    }
+    color = vec4(front * pc.scale * b, 1.0);
+}
