@@ -14,6 +14,7 @@ static const struct {
     const solver_ops *ops;
 } methods[] = {
     /* Each method file adds its line here when it lands. */
+    {XRAD_METHOD_GATHER, "gather", &gather_ops},
     {0, NULL, NULL},
 };
 

@@ -1,0 +1,410 @@
+/*
+ * Gather radiosity (thesis 4.2, Algorithm 4.1; DESIGN.md "Methods"): every
+ * bounce renders one radiosity hemicube per element, integrates it against
+ * the delta form factors and sets B_e = E_e + rho_e * gathered_e, a Jacobi
+ * iteration: the whole bounce reads the atlas of the previous bounce.
+ *
+ * Per bounce, in command buffers of many hemicubes each:
+ *
+ *     B -> atlas (passes/atlas_scatter.h), then per batch of K elements:
+ *     radiosity hemicubes (passes/hemicube.h, K per render) -> integrate
+ *     (passes/integrate.h) into the gathered sums
+ *
+ * and after the last one the sums are copied to host memory. The host then
+ * forms the next B (O(elements), in double precision), measures the largest
+ * change of the bounce relative to the largest emission, and hands B to the
+ * next bounce's first command buffer, which copies it into place. One host
+ * wait per command buffer; nothing per hemicube.
+ *
+ * Hemicube placement: at the centroid of the element's cell (the part of
+ * the surface it stands for, scene.h), not at its sample: samples on a
+ * surface's edge lie in the plane of a perpendicular neighbour, which a
+ * hemicube there sees edge-on (the same reason as the reconstruct pass's
+ * receiver point); the centroid makes each element's gathered value a
+ * midpoint estimate of the area average the reference solver computes.
+ * The frame's tangent is the surface's u edge turned about the normal by
+ * hemicube_rotation (thesis 4.2: random rotation breaks up aliasing).
+ *
+ * The hemicubes hold B x scale in fp16, scale = 1 / the largest B of the
+ * bounce, so any emission stays inside fp16's range; integrate divides it
+ * out. After the solve B is in gs.B and the atlas, and Bu is 0: a gathered
+ * solution has nothing left to shoot.
+ */
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "gpu/cmd.h"
+#include "gpu/context.h"
+#include "passes/atlas_scatter.h"
+#include "passes/hemicube.h"
+#include "passes/hemicube_geometry.h"
+#include "passes/integrate.h"
+#include "radiosity.h"
+#include "solvers/solver.h"
+
+/* Render-target memory for one batch of radiosity hemicubes. */
+#define MAX_BATCH_BYTES (64ull << 20)
+#define MAX_BATCH 256u
+/* Hemicubes per command buffer: a few seconds on lavapipe, well inside the
+ * context's wait limit; a fraction of a millisecond each on a GPU. */
+#define HEMICUBES_PER_SUBMISSION 2048u
+
+typedef struct gather {
+    hemicube_pass *hemicube;
+    integrate_pass *integrate;
+    atlas_scatter_pass *scatter;
+    gpu_buffer frames;   /* struct gpu_shooter[element_count]: one hemicube frame per element */
+    gpu_buffer sums;     /* vec4[element_count]: gathered sum_j F_ej B_j */
+    gpu_buffer readback; /* the sums, host-visible */
+    gpu_buffer upload;   /* B for the next bounce, host-visible */
+    uint32_t batch;      /* hemicubes per render */
+    double *emission, *albedo; /* 3 per element */
+    double *B;                 /* 3 per element, the current bounce */
+    double max_emission;
+} gather;
+
+static uint32_t batch_size(const xrad_solver *s)
+{
+    uint64_t res = s->desc.hemicube_res, msaa = s->desc.msaa;
+    /* Colour (RGBA16F) and depth (D32) at msaa samples, plus the resolve target. */
+    uint64_t per = res * res * HEMICUBE_FACES * (12 * msaa + (msaa > 1 ? 8 : 0));
+    uint64_t k = MAX_BATCH_BYTES / per;
+    const VkPhysicalDeviceLimits *lim = &s->ctx->props.limits;
+    uint32_t layers = (lim->maxImageArrayLayers < lim->maxFramebufferLayers
+                           ? lim->maxImageArrayLayers
+                           : lim->maxFramebufferLayers) /
+                      HEMICUBE_FACES;
+    if (k > MAX_BATCH)
+        k = MAX_BATCH;
+    if (k > layers)
+        k = layers;
+    if (k > s->gs.element_count)
+        k = s->gs.element_count;
+    return k ? (uint32_t)k : 1;
+}
+
+static void destroy(xrad_solver *s)
+{
+    gather *g = s->impl;
+    if (!g)
+        return;
+    atlas_scatter_destroy(s->ctx, &g->scatter);
+    integrate_destroy(s->ctx, &g->integrate);
+    hemicube_destroy(s->ctx, &g->hemicube);
+    gpu_buffer_destroy(s->ctx, &g->upload);
+    gpu_buffer_destroy(s->ctx, &g->readback);
+    gpu_buffer_destroy(s->ctx, &g->sums);
+    gpu_buffer_destroy(s->ctx, &g->frames);
+    free(g->emission);
+    free(g->albedo);
+    free(g->B);
+    free(g);
+    s->impl = NULL;
+}
+
+static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
+
+/* The parameter interval of sample i of n: within half a spacing, clipped
+ * to the surface (scene.h). */
+static double cell_mid(uint32_t i, uint32_t n)
+{
+    double h = 1.0 / (n - 1);
+    double lo = fmax(0.0, (i - 0.5) * h), hi = fmin(1.0, (i + 0.5) * h);
+    return 0.5 * (lo + hi);
+}
+
+static vec3 bilinear(const vec3 c[4], double u, double v)
+{
+    return v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
+}
+
+/* One frame per element: cell centroid, surface normal, rotated u edge. */
+static xrad_status build_frames(xrad_solver *s, gather *g, xrad_error *err)
+{
+    const xrad_scene *scene = s->scene;
+    uint32_t n = scene->element_count;
+    struct gpu_shooter *f = calloc(n ? n : 1, sizeof(*f));
+    if (!f)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "gather: out of host memory for frames");
+    for (uint32_t k = 0; k < scene->surface_count; k++) {
+        const surface *sf = &scene->surfaces[k];
+        vec3 c[4], normal;
+        scene_surface_world(scene, k, s->desc.time, c, &normal);
+        vec3 u = v3_sub(c[1], c[0]);
+        vec3 x0 = v3_norm(v3_sub(u, v3_scale(normal, v3_dot(u, normal))));
+        for (uint32_t j = 0; j < sf->nv; j++) {
+            for (uint32_t i = 0; i < sf->nu; i++) {
+                uint32_t e = sf->first_element + j * sf->nu + i;
+                mat3 r = m3_rotation(normal, hemicube_rotation(s->desc.seed * 0x9e3779b9u + e));
+                struct gpu_shooter *fe = &f[e];
+                fe->pos_area = to_vec4(bilinear(c, cell_mid(i, sf->nu), cell_mid(j, sf->nv)),
+                                       scene->elements[e].area);
+                fe->normal = to_vec4(normal, 0);
+                fe->tangent = to_vec4(m3_apply(&r, x0), 0);
+                fe->surface = k;
+                fe->i0 = fe->i1 = i;
+                fe->j0 = fe->j1 = j;
+                fe->hemicube = e;
+            }
+        }
+    }
+    xrad_status st = gpu_upload_buffer(s->ctx, &g->frames, 0, f, (n ? n : 1) * sizeof(*f), err);
+    free(f);
+    return st;
+}
+
+static xrad_status create(xrad_solver *s, xrad_error *err)
+{
+    gather *g = calloc(1, sizeof(*g));
+    if (!g)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "gather solver: out of host memory");
+    s->impl = g;
+    struct xrad_context *ctx = s->ctx;
+    const xrad_scene *scene = s->scene;
+    uint32_t n = scene->element_count;
+    size_t nn = n ? n : 1;
+    g->emission = malloc(3 * nn * sizeof(double));
+    g->albedo = malloc(3 * nn * sizeof(double));
+    g->B = malloc(3 * nn * sizeof(double));
+    if (!g->emission || !g->albedo || !g->B) {
+        destroy(s);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "gather solver: out of host memory");
+    }
+    for (uint32_t e = 0; e < n; e++) {
+        const material *m = &scene->materials[scene->surfaces[scene->elements[e].surface].material];
+        const double em[3] = {m->emission.x, m->emission.y, m->emission.z};
+        const double al[3] = {m->albedo.x, m->albedo.y, m->albedo.z};
+        for (int c = 0; c < 3; c++) {
+            g->emission[3 * e + c] = em[c];
+            g->albedo[3 * e + c] = al[c];
+            g->max_emission = fmax(g->max_emission, em[c]);
+        }
+    }
+    g->batch = batch_size(s);
+    hemicube_desc hd = {
+        .kind = HEMICUBE_RADIOSITY,
+        .res = s->desc.hemicube_res,
+        .max_hemicubes = g->batch,
+        .msaa = s->desc.msaa,
+        .path = HEMICUBE_PATH_AUTO,
+        .diameter = s->gs.diameter > 0 ? s->gs.diameter : 1.0,
+    };
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+    xrad_status st;
+    if ((st = gpu_buffer_create(ctx, nn * sizeof(struct gpu_shooter), storage, GPU_MEM_DEVICE,
+                                GPU_MEM_GEOMETRY, &g->frames, err)) ||
+        (st = gpu_buffer_create(ctx, nn * sizeof(vec4), storage, GPU_MEM_DEVICE,
+                                GPU_MEM_RADIOSITY, &g->sums, err)) ||
+        (st = gpu_buffer_create(ctx, nn * sizeof(vec4), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                GPU_MEM_READBACK, GPU_MEM_STAGING, &g->readback, err)) ||
+        (st = gpu_buffer_create(ctx, nn * sizeof(vec4), VK_BUFFER_USAGE_TRANSFER_SRC_BIT,
+                                GPU_MEM_UPLOAD, GPU_MEM_STAGING, &g->upload, err)) ||
+        (st = build_frames(s, g, err)) ||
+        (st = hemicube_create_desc(ctx, &hd, &g->hemicube, err)) ||
+        (st = integrate_create(ctx, s->desc.hemicube_res, &g->integrate, err)) ||
+        (st = atlas_scatter_create(ctx, &g->scatter, err)))
+        goto fail;
+    /* Two timed passes per batch and the scatter, per command buffer. */
+    uint32_t intervals = 2 * (HEMICUBES_PER_SUBMISSION / g->batch + 1) + 2;
+    if (s->timer->capacity < intervals) {
+        gpu_timer_destroy(ctx, &s->timer);
+        if ((st = gpu_timer_create(ctx, intervals, &s->timer, err)))
+            goto fail;
+    }
+    s->stats.hemicube_path = hemicube_path_name(g->hemicube);
+    return XRAD_OK;
+
+fail:
+    destroy(s);
+    xrad_error_prefix(err, "gather solver");
+    return st;
+}
+
+static void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                           VkPipelineStageFlags dst, VkAccessFlags dst_access)
+{
+    VkMemoryBarrier b = {
+        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
+        .srcAccessMask = src_access,
+        .dstAccessMask = dst_access,
+    };
+    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, NULL, 0, NULL);
+}
+
+/* Copies the host's B into gs.B and scatters it into the atlas. */
+static void record_b(xrad_solver *s, gather *g, VkCommandBuffer cmd)
+{
+    VkBufferCopy region = {0, 0, (VkDeviceSize)s->gs.element_count * sizeof(vec4)};
+    /* Earlier readers of B and the atlas (the last bounce's hemicubes, the
+     * display, readbacks) come first. */
+    memory_barrier(cmd,
+                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
+                       VK_PIPELINE_STAGE_TRANSFER_BIT,
+                   VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+    vkCmdCopyBuffer(cmd, g->upload.buffer, s->gs.B.buffer, 1, &region);
+    memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    gpu_timer_begin(s->timer, cmd, "scatter");
+    atlas_scatter_record(g->scatter, cmd,
+                         &(atlas_scatter_draw){&s->gs.elements, &s->gs.B, s->gs.element_count,
+                                               &s->gs.atlas});
+    gpu_timer_end(s->timer, cmd);
+    /* The atlas is sampled by the hemicubes' fragment shaders. */
+    gpu_image_barrier(cmd, &s->gs.atlas, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                          VK_PIPELINE_STAGE_TRANSFER_BIT,
+                      VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
+}
+
+/* Writes the host's B, as float, to the upload buffer; returns the
+ * largest channel value. */
+static double stage_b(const xrad_solver *s, gather *g)
+{
+    vec4 *up = g->upload.alloc.mapped;
+    double max_b = 0;
+    for (uint32_t e = 0; e < s->gs.element_count; e++) {
+        const double *b = &g->B[3 * e];
+        up[e] = (vec4){(float)b[0], (float)b[1], (float)b[2], 0};
+        max_b = fmax(max_b, fmax(b[0], fmax(b[1], b[2])));
+    }
+    return max_b;
+}
+
+static xrad_status run(xrad_solver *s, gpu_cmd *c, xrad_error *err)
+{
+    xrad_status st = gpu_cmd_submit(s->ctx, c, err);
+    if (!st) {
+        s->stats.submissions++;
+        st = gpu_cmd_wait(s->ctx, c, err);
+        s->stats.host_waits++;
+    }
+    gpu_cmd_destroy(s->ctx, c);
+    return st ? st : gpu_timer_collect(s->ctx, s->timer, err);
+}
+
+/* One bounce: every element gathers from the atlas of the host's B; the
+ * sums land in g->readback. */
+static xrad_status bounce(xrad_solver *s, gather *g, float scale, xrad_error *err)
+{
+    uint32_t n = s->gs.element_count;
+    xrad_status st = XRAD_OK;
+    uint32_t first = 0;
+    do {
+        gpu_cmd c;
+        if ((st = gpu_cmd_begin(s->ctx, &c, err)))
+            return st;
+        gpu_timer_start(s->timer, c.cmd);
+        if (first == 0)
+            record_b(s, g, c.cmd);
+        uint32_t end = n - first > HEMICUBES_PER_SUBMISSION ? first + HEMICUBES_PER_SUBMISSION : n;
+        while (first < end) {
+            uint32_t count = end - first < g->batch ? end - first : g->batch;
+            hemicube_draw hd = {
+                .vertices = &s->gs.vertices,
+                .vertex_count = s->gs.vertex_count,
+                .frames = &g->frames,
+                .first = first,
+                .count = count,
+                .atlas = &s->gs.atlas,
+                .scale = scale,
+            };
+            gpu_timer_begin(s->timer, c.cmd, "hemicube");
+            hemicube_record(g->hemicube, c.cmd, &hd);
+            gpu_timer_end(s->timer, c.cmd);
+            integrate_draw id = {
+                .hemicubes = hemicube_image(g->hemicube)->view,
+                .count = count,
+                .out = &g->sums,
+                .out_first = first,
+                .scale = scale,
+            };
+            gpu_timer_begin(s->timer, c.cmd, "integrate");
+            integrate_record(g->integrate, c.cmd, &id);
+            gpu_timer_end(s->timer, c.cmd);
+            s->stats.hemicubes += count;
+            first += count;
+        }
+        if (first >= n) {
+            VkBufferCopy region = {0, 0, (VkDeviceSize)n * sizeof(vec4)};
+            memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                           VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                           VK_ACCESS_TRANSFER_READ_BIT);
+            vkCmdCopyBuffer(c.cmd, g->sums.buffer, g->readback.buffer, 1, &region);
+            memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+        }
+        if ((st = run(s, &c, err)))
+            return st;
+    } while (first < n);
+    return XRAD_OK;
+}
+
+/* B = E + rho * gathered; returns the largest change of any channel. */
+static double update(const xrad_solver *s, gather *g)
+{
+    const vec4 *sum = g->readback.alloc.mapped;
+    double change = 0;
+    for (uint32_t e = 0; e < s->gs.element_count; e++) {
+        const float gathered[3] = {sum[e].x, sum[e].y, sum[e].z};
+        for (int c = 0; c < 3; c++) {
+            double b = g->emission[3 * e + c] + g->albedo[3 * e + c] * gathered[c];
+            change = fmax(change, fabs(b - g->B[3 * e + c]));
+            g->B[3 * e + c] = b;
+        }
+    }
+    return change;
+}
+
+static xrad_status solve(xrad_solver *s, xrad_error *err)
+{
+    gather *g = s->impl;
+    uint32_t n = s->gs.element_count;
+    memcpy(g->B, g->emission, 3 * (size_t)n * sizeof(double));
+    uint32_t limit = s->desc.bounces ? s->desc.bounces : s->desc.max_iterations;
+    if (limit > s->desc.max_iterations)
+        limit = s->desc.max_iterations;
+    xrad_status st = XRAD_OK;
+    double residual = 0;
+    for (uint32_t k = 0; k < limit && n; k++) {
+        double max_b = stage_b(s, g);
+        float scale = max_b > 0 ? (float)(1.0 / max_b) : 1.0f;
+        if ((st = bounce(s, g, scale, err)))
+            return st;
+        double change = update(s, g);
+        s->stats.iterations++;
+        residual = g->max_emission > 0 ? change / g->max_emission : 0;
+        if (!s->desc.bounces && residual < s->desc.threshold)
+            break;
+    }
+    s->stats.residual = residual;
+    /* The final B into gs.B and the atlas; nothing is left unshot. */
+    stage_b(s, g);
+    gpu_cmd c;
+    if ((st = gpu_cmd_begin(s->ctx, &c, err)))
+        return st;
+    gpu_timer_start(s->timer, c.cmd);
+    if (n) {
+        record_b(s, g, c.cmd);
+        vkCmdFillBuffer(c.cmd, s->gs.Bu.buffer, 0, VK_WHOLE_SIZE, 0);
+    }
+    /* B, Bu and the atlas are complete for later submissions and the host. */
+    memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                   VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                   VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                   VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT |
+                       VK_ACCESS_HOST_READ_BIT);
+    if ((st = run(s, &c, err)))
+        return st;
+    solver_collect_times(s);
+    return XRAD_OK;
+}
+
+const solver_ops gather_ops = {create, solve, destroy};
