@@ -15,6 +15,7 @@ static const struct {
 } methods[] = {
     /* Each method file adds its line here when it lands. */
     {XRAD_METHOD_GATHER, "gather", &gather_ops},
+    {XRAD_METHOD_PROGRESSIVE, "progressive", &progressive_ops},
     {0, NULL, NULL},
 };
 
