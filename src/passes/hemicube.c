@@ -17,11 +17,6 @@
 #include "passes/hemicube_geometry.h"
 #include "radiosity.h"
 
-/* Near plane and origin offset as fractions of the scene's diameter: far
- * below any element spacing, far above float rounding at that scale. */
-#define NEAR_FRACTION 1e-4
-#define HAIR_FRACTION 1e-5
-
 #define VIEW_MASK ((1u << HEMICUBE_FACES) - 1u)
 
 struct hemicube_pass {
@@ -404,8 +399,8 @@ static xrad_status create_for_path(struct xrad_context *ctx, const hemicube_desc
     if (!p->desc.msaa)
         p->desc.msaa = 1;
     p->path = path;
-    p->near = (float)(NEAR_FRACTION * desc->diameter);
-    p->hair = (float)(HAIR_FRACTION * desc->diameter);
+    p->near = (float)(HEMICUBE_NEAR_FRACTION * desc->diameter);
+    p->hair = (float)(HEMICUBE_HAIR_FRACTION * desc->diameter);
     xrad_status s;
     if ((s = create_render_pass(p, err)) || (s = create_pipeline(p, err)) ||
         (s = create_targets(p, err))) {

@@ -56,6 +56,13 @@ struct xrad_context;
 #define HEMICUBE_RADIOSITY_FORMAT VK_FORMAT_R16G16B16A16_SFLOAT
 #define HEMICUBE_DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
 
+/* Near plane and origin offset along the normal, as fractions of the
+ * scene's diameter: far below any element spacing, far above float
+ * rounding at that scale (the vertex stage adds a few float steps of the
+ * origin's coordinates to the offset). */
+#define HEMICUBE_NEAR_FRACTION 1e-4
+#define HEMICUBE_HAIR_FRACTION 1e-5
+
 typedef enum hemicube_kind {
     HEMICUBE_IDS,
     HEMICUBE_RADIOSITY,
