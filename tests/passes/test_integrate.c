@@ -1,0 +1,252 @@
+/*
+ * Radiosity hemicubes + integrate (src/passes/hemicube.h, integrate.h,
+ * atlas_scatter.h) against closed forms:
+ *  - the delta form factor table on the GPU sums to 1 within 1e-4 at 64 x 64;
+ *  - inside a closed box whose every wall emits E, any hemicube (any point,
+ *    any orientation, 1 or 4 samples) integrates to E within 1e-3, also for
+ *    E = 1e6, where the scale keeps fp16 from overflowing;
+ *  - under a unit-square emitting ceiling at height 1, the floor centre
+ *    gathers E F with F = 4 F_corner(1/2, 1/2), the differential area to a
+ *    parallel rectangle whose corner lies on its normal at unit distance
+ *    (Howell's catalog B-3): F_corner(a, b) = 1/(2 pi) [a / sqrt(1 + a^2)
+ *    atan(b / sqrt(1 + a^2)) + b / sqrt(1 + b^2) atan(a / sqrt(1 + b^2))].
+ *    An unrotated hemicube puts the square's edges on pixel boundaries, so
+ *    the exact delta form factors give F to rounding (1e-3); rotated, the
+ *    edges cut pixels (1e-2 with 4 samples).
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "gpu/cmd.h"
+#include "gpu/gpu_test.h"
+#include "passes/atlas_scatter.h"
+#include "passes/hemicube.h"
+#include "passes/hemicube_geometry.h"
+#include "passes/integrate.h"
+#include "radiosity.h"
+#include "scene/scene.h"
+#include "solvers/gpu_scene.h"
+
+#define RES 64
+#define MAX_CUBES 4
+
+/* The unit box, walls facing inward, each its own material. */
+static const char *box_json =
+    "{\"unit\":\"m\",\"density\":4,\"materials\":["
+    "{\"name\":\"wall\",\"albedo\":[0.5,0.5,0.5],\"emission\":[%g,%g,%g]},"
+    "{\"name\":\"top\",\"albedo\":[0.5,0.5,0.5],\"emission\":[%g,%g,%g]}],"
+    "\"objects\":[{\"name\":\"box\",\"surfaces\":["
+    "{\"name\":\"floor\",\"material\":\"wall\",\"quad\":{\"origin\":[0,0,0],\"u\":[1,0,0],\"v\":[0,1,0]}},"
+    "{\"name\":\"ceiling\",\"material\":\"top\",\"quad\":{\"origin\":[0,0,1],\"u\":[0,1,0],\"v\":[1,0,0]}},"
+    "{\"name\":\"x0\",\"material\":\"wall\",\"quad\":{\"origin\":[0,0,0],\"u\":[0,1,0],\"v\":[0,0,1]}},"
+    "{\"name\":\"x1\",\"material\":\"wall\",\"quad\":{\"origin\":[1,0,0],\"u\":[0,0,1],\"v\":[0,1,0]}},"
+    "{\"name\":\"y0\",\"material\":\"wall\",\"quad\":{\"origin\":[0,0,0],\"u\":[0,0,1],\"v\":[1,0,0]}},"
+    "{\"name\":\"y1\",\"material\":\"wall\",\"quad\":{\"origin\":[0,1,0],\"u\":[1,0,0],\"v\":[0,0,1]}}"
+    "]}]}";
+
+typedef struct frame {
+    vec3 origin, normal;
+    double angle; /* of the tangent about the normal, from the x axis projected */
+} frame;
+
+static xrad_scene *load_box(const double wall[3], const double top[3])
+{
+    char json[2048];
+    snprintf(json, sizeof json, box_json, wall[0], wall[1], wall[2], top[0], top[1], top[2]);
+    xrad_scene *sc = NULL;
+    xrad_error err = {0};
+    xrad_status s = xrad_scene_parse(json, strlen(json), "box.json", &sc, &err);
+    CHECK(s == XRAD_OK, "parse: %s", err.message);
+    return sc;
+}
+
+static struct gpu_shooter to_shooter(const frame *f)
+{
+    vec3 z = v3_norm(f->normal);
+    vec3 a = fabs(z.x) < 0.9 ? v3(1, 0, 0) : v3(0, 1, 0);
+    vec3 x0 = v3_norm(v3_sub(a, v3_scale(z, v3_dot(a, z))));
+    mat3 r = m3_rotation(z, f->angle);
+    vec3 x = m3_apply(&r, x0);
+    struct gpu_shooter sh;
+    memset(&sh, 0, sizeof(sh));
+    sh.pos_area = (vec4){(float)f->origin.x, (float)f->origin.y, (float)f->origin.z, 0};
+    sh.normal = (vec4){(float)z.x, (float)z.y, (float)z.z, 0};
+    sh.tangent = (vec4){(float)x.x, (float)x.y, (float)x.z, 0};
+    return sh;
+}
+
+/* B -> atlas, n radiosity hemicubes, integrate; sums[h] rgb. */
+static xrad_status gather_sums(xrad_context *ctx, const xrad_scene *sc, const frame *frames,
+                               uint32_t n, uint32_t msaa, float scale, double sums[][3])
+{
+    xrad_error err = {0};
+    gpu_scene gs = {0};
+    hemicube_pass *hc = NULL;
+    integrate_pass *ip = NULL;
+    atlas_scatter_pass *sp = NULL;
+    gpu_buffer fbuf = {0}, out = {0};
+    gpu_cmd c = {0};
+    struct gpu_shooter sh[MAX_CUBES];
+    for (uint32_t h = 0; h < n; h++)
+        sh[h] = to_shooter(&frames[h]);
+    xrad_status s;
+    if ((s = gpu_scene_create(ctx, sc, 0, &gs, &err)))
+        goto done;
+    hemicube_desc hd = {
+        .kind = HEMICUBE_RADIOSITY,
+        .res = RES,
+        .max_hemicubes = MAX_CUBES,
+        .msaa = msaa,
+        .path = HEMICUBE_PATH_AUTO,
+        .diameter = gs.diameter,
+    };
+    if ((s = hemicube_create_desc(ctx, &hd, &hc, &err)) ||
+        (s = integrate_create(ctx, RES, &ip, &err)) || (s = atlas_scatter_create(ctx, &sp, &err)) ||
+        (s = gpu_buffer_create(ctx, sizeof(sh), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
+                               GPU_MEM_GEOMETRY, &fbuf, &err)) ||
+        (s = gpu_buffer_create(ctx, MAX_CUBES * sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                               GPU_MEM_READBACK, GPU_MEM_OTHER, &out, &err)) ||
+        (s = gpu_upload_buffer(ctx, &fbuf, 0, sh, n * sizeof(sh[0]), &err)) ||
+        (s = gpu_cmd_begin(ctx, &c, &err)))
+        goto done;
+    atlas_scatter_record(sp, c.cmd,
+                         &(atlas_scatter_draw){&gs.elements, &gs.B, gs.element_count, &gs.atlas});
+    gpu_image_barrier(c.cmd, &gs.atlas, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    hemicube_record(hc, c.cmd,
+                    &(hemicube_draw){.vertices = &gs.vertices,
+                                     .vertex_count = gs.vertex_count,
+                                     .frames = &fbuf,
+                                     .count = n,
+                                     .atlas = &gs.atlas,
+                                     .scale = scale});
+    integrate_record(ip, c.cmd,
+                     &(integrate_draw){.hemicubes = hemicube_image(hc)->view,
+                                       .count = n,
+                                       .out = &out,
+                                       .scale = scale});
+    VkMemoryBarrier host = {VK_STRUCTURE_TYPE_MEMORY_BARRIER, NULL, VK_ACCESS_SHADER_WRITE_BIT,
+                            VK_ACCESS_HOST_READ_BIT};
+    vkCmdPipelineBarrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                         0, 1, &host, 0, NULL, 0, NULL);
+    if ((s = gpu_cmd_run(ctx, &c, &err)))
+        goto done;
+    const vec4 *v = out.alloc.mapped;
+    for (uint32_t h = 0; h < n; h++) {
+        sums[h][0] = v[h].x;
+        sums[h][1] = v[h].y;
+        sums[h][2] = v[h].z;
+    }
+done:
+    CHECK(s == XRAD_OK, "%s", err.message);
+    gpu_cmd_destroy(ctx, &c);
+    gpu_buffer_destroy(ctx, &out);
+    gpu_buffer_destroy(ctx, &fbuf);
+    atlas_scatter_destroy(ctx, &sp);
+    integrate_destroy(ctx, &ip);
+    hemicube_destroy(ctx, &hc);
+    gpu_scene_destroy(ctx, &gs);
+    return s;
+}
+
+static void test_table(xrad_context *ctx)
+{
+    xrad_error err = {0};
+    integrate_pass *ip = NULL;
+    xrad_status s = integrate_create(ctx, RES, &ip, &err);
+    CHECK(s == XRAD_OK, "integrate: %s", err.message);
+    if (s)
+        return;
+    size_t n = (size_t)HEMICUBE_FACES * RES * RES;
+    float *t = malloc(n * sizeof(float));
+    CHECK(t != NULL, "out of memory");
+    if (t && !(s = gpu_readback_buffer(ctx, (gpu_buffer *)integrate_table(ip), 0, t,
+                                       n * sizeof(float), &err))) {
+        double sum = 0;
+        for (size_t i = 0; i < n; i++)
+            sum += t[i];
+        fprintf(stderr, "delta form factors at %u: sum %.9f\n", RES, sum);
+        CHECK_ABS(sum, 1.0, 1e-4);
+    }
+    CHECK(s == XRAD_OK, "readback: %s", err.message);
+    free(t);
+    integrate_destroy(ctx, &ip);
+}
+
+static const frame uniform_frames[MAX_CUBES] = {
+    {{0.5, 0.5, 0}, {0, 0, 1}, 0},        /* floor centre */
+    {{0.3, 0.6, 0.45}, {0.3, -0.5, 0.8}, 1.1}, /* inside, tilted */
+    {{0.03, 0.02, 0.04}, {1, 1, 1}, 2.3},  /* near a corner, facing the box's diagonal */
+    {{1, 0.7, 0.2}, {-1, 0, 0}, 4.0},      /* on a wall */
+};
+
+static void test_uniform_box(xrad_context *ctx, double e, uint32_t msaa)
+{
+    const double em[3] = {e, 0.5 * e, 0.25 * e};
+    xrad_scene *sc = load_box(em, em);
+    if (!sc)
+        return;
+    double sums[MAX_CUBES][3];
+    if (!gather_sums(ctx, sc, uniform_frames, MAX_CUBES, msaa, (float)(1.0 / e), sums)) {
+        for (int h = 0; h < MAX_CUBES; h++) {
+            double worst = 0;
+            for (int c = 0; c < 3; c++)
+                worst = fmax(worst, fabs(sums[h][c] - em[c]) / em[c]);
+            fprintf(stderr, "uniform box E = %g, %u sample(s), hemicube %d: worst relative error %.2e\n",
+                    e, msaa, h, worst);
+            CHECK(worst < 1e-3, "E = %g, msaa %u, hemicube %d: (%g %g %g) vs (%g %g %g)", e, msaa,
+                  h, sums[h][0], sums[h][1], sums[h][2], em[0], em[1], em[2]);
+        }
+    }
+    xrad_scene_destroy(&sc);
+}
+
+static double f_corner(double a, double b)
+{
+    double sa = sqrt(1 + a * a), sb = sqrt(1 + b * b);
+    return (a / sa * atan(b / sa) + b / sb * atan(a / sb)) / (2 * M_PI);
+}
+
+static void test_ceiling(xrad_context *ctx)
+{
+    const double zero[3] = {0, 0, 0}, e[3] = {3, 2, 1};
+    xrad_scene *sc = load_box(zero, e);
+    if (!sc)
+        return;
+    double f = 4 * f_corner(0.5, 0.5);
+    const frame frames[2] = {
+        {{0.5, 0.5, 0}, {0, 0, 1}, 0},   /* unrotated: the square's edges on pixel boundaries */
+        {{0.5, 0.5, 0}, {0, 0, 1}, 0.7}, /* rotated: they cut pixels */
+    };
+    for (uint32_t msaa = 1; msaa <= 4; msaa += 3) {
+        double sums[2][3];
+        if (gather_sums(ctx, sc, frames, 2, msaa, 1.0f / 3, sums))
+            break;
+        for (int h = 0; h < 2; h++) {
+            double worst = 0;
+            for (int c = 0; c < 3; c++)
+                worst = fmax(worst, fabs(sums[h][c] - e[c] * f) / (e[c] * f));
+            fprintf(stderr, "ceiling, F = %.6f, %s, %u sample(s): worst relative error %.2e\n", f,
+                    h ? "rotated" : "aligned", msaa, worst);
+            double tol = h == 0 ? 1e-3 : msaa == 4 ? 1e-2 : 3e-2;
+            CHECK(worst < tol, "ceiling, hemicube %d, msaa %u: (%g %g %g), want %g x E", h, msaa,
+                  sums[h][0], sums[h][1], sums[h][2], f);
+        }
+    }
+    xrad_scene_destroy(&sc);
+}
+
+int main(void)
+{
+    xrad_context *ctx = gpu_test_context();
+    if (!ctx)
+        return test_finish();
+    test_table(ctx);
+    test_uniform_box(ctx, 1, 1);
+    test_uniform_box(ctx, 1, 4);
+    test_uniform_box(ctx, 1e6, 4);
+    test_ceiling(ctx);
+    gpu_test_end(&ctx);
+    return test_finish();
+}
