@@ -381,6 +381,11 @@ static void test_rule(xrad_context *ctx)
     static const uint32_t order[4] = {0, 3, 1, 2};
     static const double ratio[4] = {1, 0.5, 0.25, 1.0 / 64};
     static const double lu[4] = {1, 1, 2, 0.5}, lv[4] = {1, 1, 1, 0.5};
+    /* By hand: the square 9 x 9 surface at full power 8 x 8 (max_patches);
+     * the 2 x 2 one at half power 2 x 2 (its element counts); the 2:1 one at
+     * a quarter 16 patches as ceil(sqrt(32)) x ceil(sqrt(8)) = 6 x 3; the
+     * dimmest, at 1/64, a single patch. */
+    static const uint32_t by_hand[4][2] = {{8, 8}, {2, 2}, {6, 3}, {1, 1}};
     size_t bytes = r.scene->element_count * sizeof(vec4);
     vec4 *before = malloc(bytes);
     uint32_t patches = 0;
@@ -396,14 +401,13 @@ static void test_rule(xrad_context *ctx)
         expect_counts(&sfs[s], lu[k], lv[k], ratio[k], 8, &kx, &ky);
         CHECK(st->kx == kx && st->ky == ky, "%s: %u x %u patches, want %u x %u", sfs[s].name,
               st->kx, st->ky, kx, ky);
+        CHECK(kx == by_hand[k][0] && ky == by_hand[k][1], "%s: the rule gives %u x %u", sfs[s].name,
+              kx, ky);
         CHECK_REL(st->max_power, P, 1e-5);
         patches += kx * ky;
         CHECK(st->selections == (uint32_t)k + 1 && st->patches == patches, "counters %u %u",
               st->selections, st->patches);
     }
-    /* The first shot of a square 9 x 9 surface is 8 x 8 = 64 patches; the
-     * 2 x 2 surface, half as bright, gets 2 x 2 (its element count); the
-     * 2:1 surface at a quarter 6 x 3; the dimmest 1 x 1. */
     /* Left: the strip, at 1e-5 of the largest power, below the threshold. */
     for (int again = 0; again < 2 && before; again++) {
         memcpy(before, r.Bu.alloc.mapped, bytes);
