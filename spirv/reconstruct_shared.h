@@ -24,7 +24,7 @@ struct reconstruct_push {
     uint hemicube_res;    /* pixels per face side */
     uint neighbours;      /* 1: nearest-texel visibility check (thesis 4.3.3) */
     uint pad0;
-    float subdivide_ratio; /* exact form factor where shooter area / distance^2 exceeds this (4.3.3) */
+    float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
     float pad1, pad2, pad3;
 };
 

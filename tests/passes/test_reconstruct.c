@@ -187,7 +187,8 @@ static int rig_create(xrad_context *ctx, uint32_t max_shooters, rig *r)
         gs[s].material = sf->material;
         for (uint32_t e = sf->first_element; e < sf->first_element + sf->nu * sf->nv; e++) {
             vec3 p = sc->elements[e].pos; /* one static object at rest: world = object */
-            ge[e].pos_area = (vec4){(float)p.x, (float)p.y, (float)p.z, (float)sc->elements[e].area};
+            float a = (float)sc->elements[e].area;
+            ge[e].pos_area = (vec4){(float)p.x, (float)p.y, (float)p.z, a};
             ge[e].normal = (vec4){(float)n.x, (float)n.y, (float)n.z, 0};
             ge[e].surface = s;
         }
@@ -282,7 +283,8 @@ static double howell_c11(double a, double b, double c)
 {
     double X = a / c, Y = b / c, X2 = X * X, Y2 = Y * Y;
     return 2 / (M_PI * X * Y) *
-           (log(sqrt((1 + X2) * (1 + Y2) / (1 + X2 + Y2))) + X * sqrt(1 + Y2) * atan(X / sqrt(1 + Y2)) +
+           (log(sqrt((1 + X2) * (1 + Y2) / (1 + X2 + Y2))) +
+            X * sqrt(1 + Y2) * atan(X / sqrt(1 + Y2)) +
             Y * sqrt(1 + X2) * atan(Y / sqrt(1 + X2)) - X * atan(X) - Y * atan(Y));
 }
 

@@ -98,7 +98,8 @@ static int rig_create(xrad_context *ctx, const char *json, uint32_t max_shooters
         xform pose = scene_object_pose(sc, sf->object, 0);
         for (uint32_t e = sf->first_element; e < sf->first_element + sf->nu * sf->nv; e++) {
             vec3 p = xf_point(&pose, sc->elements[e].pos);
-            ge[e].pos_area = (vec4){(float)p.x, (float)p.y, (float)p.z, (float)sc->elements[e].area};
+            float a = (float)sc->elements[e].area;
+            ge[e].pos_area = (vec4){(float)p.x, (float)p.y, (float)p.z, a};
             ge[e].normal = (vec4){(float)n.x, (float)n.y, (float)n.z, 0};
             ge[e].surface = s;
         }

@@ -72,7 +72,8 @@ static void against_reference(xrad_context *ctx, const char *name)
     float *ref_img = NULL, *gpu_img = NULL;
     uint32_t w = 0, h = 0, w2 = 0, h2 = 0;
     xrad_solver_desc desc = {.method = XRAD_METHOD_PROGRESSIVE};
-    if ((st = xrad_atlas_create(scene, &ref, &err)) || (st = xrad_atlas_create(scene, &gpu, &err)) ||
+    if ((st = xrad_atlas_create(scene, &ref, &err)) ||
+        (st = xrad_atlas_create(scene, &gpu, &err)) ||
         (st = xrad_reference_solve(scene, &(xrad_reference_desc){.threads = 2}, &ref, NULL,
                                    &err)) ||
         (st = xrad_solver_create(ctx, scene, &desc, &solver, &err)) ||
