@@ -568,8 +568,39 @@ void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw 
             vkCmdDraw(cmd, d->vertex_count, n * HEMICUBE_FACES, 0, 0);
         vkCmdEndRenderPass(cmd);
     }
-    if (p->desc.kind != HEMICUBE_RADIOSITY || p->desc.msaa == 1 || n == 0)
+    bool resolve = p->desc.kind == HEMICUBE_RADIOSITY && p->desc.msaa > 1;
+    uint32_t total = p->desc.max_hemicubes * HEMICUBE_FACES;
+    if (!resolve || n == 0) {
+        /* Layers no render pass instance touched (multiview with fewer
+         * hemicubes than the image holds, or nothing drawn) join the rest
+         * in SHADER_READ_ONLY_OPTIMAL, so the whole array can be bound;
+         * their contents are undefined. */
+        uint32_t done = resolve ? 0
+                        : p->path == HEMICUBE_PATH_MULTIVIEW ? n * HEMICUBE_FACES
+                        : n                                   ? total
+                                                              : 0;
+        if (done < total) {
+            VkImageMemoryBarrier b = {
+                .sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER,
+                .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT,
+                .oldLayout = VK_IMAGE_LAYOUT_UNDEFINED,
+                .newLayout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+                .srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                .dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED,
+                .image = p->target.image,
+                .subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, done, total - done},
+            };
+            vkCmdPipelineBarrier(cmd,
+                                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                                     VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
+                                     VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                                     VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
+                                     VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                 0, 0, NULL, 0, NULL, 1, &b);
+        }
         return;
+    }
     /* The previous contents are discarded; whoever read them (integrate)
      * has finished. */
     gpu_image_barrier(cmd, &p->target, VK_IMAGE_LAYOUT_UNDEFINED,

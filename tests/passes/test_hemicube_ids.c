@@ -12,7 +12,8 @@
  * indirect draw command, hemicubes beyond the count stay clear. Every path
  * the device draws correctly is exercised; the path check must pass for at
  * least one path, and the automatic choice must take multiview exactly when
- * its check passes.
+ * its check passes. A path that fails the check still runs (validation-clean:
+ * every layer ends in the layout the pass promises).
  */
 #include <stdbool.h>
 #include <stdio.h>
@@ -168,7 +169,7 @@ static void upload_frames(xrad_context *ctx, const frame *f, gpu_buffer *buf)
 
 /* Renders with `path`; direct count CUBES, then an indirect count of 2. */
 static void run_path(xrad_context *ctx, gpu_scene *gs, hemicube_path path, const gpu_buffer *fbuf,
-                     uint32_t **cpu, uint32_t light, uint32_t floor_id)
+                     uint32_t **cpu, uint32_t light, uint32_t floor_id, bool correct)
 {
     const char *name = hemicube_path_label(path);
     xrad_error err = {0};
@@ -237,18 +238,20 @@ static void run_path(xrad_context *ctx, gpu_scene *gs, hemicube_path path, const
             uint32_t agree = compare(gpu + h * cube_px, cpu[h], what, &edge, &wrong);
             fprintf(stderr, "%s: %u of %zu pixels agree, %u differ on edges, %u elsewhere\n",
                     what, agree, cube_px, edge, wrong);
+            if (!correct)
+                continue;
             CHECK(agree >= 0.995 * cube_px, "%s: only %u of %zu pixels agree", what, agree,
                   cube_px);
             CHECK(wrong == 0, "%s: %u pixels differ away from edges", what, wrong);
         }
-        for (uint32_t h = count; h < MAX_CUBES && mode == 1; h++) {
+        for (uint32_t h = count; h < MAX_CUBES && mode == 1 && correct; h++) {
             uint32_t set = 0;
             for (size_t i = 0; i < cube_px; i++)
                 set += gpu[h * cube_px + i] != HEMICUBE_ID_NONE;
             CHECK(set == 0, "%s: hemicube %u beyond the indirect count has %u pixels drawn", name,
                   h, set);
         }
-        if (mode == 0) {
+        if (mode == 0 && correct) {
             /* From the floor under the light: the top face's 2 x 2 centre
              * pixels see the light; above the horizon the floor is
              * nowhere. */
@@ -356,9 +359,11 @@ int main(void)
                   cpu[0][(RES / 2) * RES + RES / 2]);
         gpu_buffer fbuf = {0};
         upload_frames(ctx, frames, &fbuf);
+        /* A path the device draws wrongly still runs, validation-clean,
+         * with nothing asserted about its pictures. */
         for (int i = 0; i < 2 && fbuf.buffer && cpu[CUBES - 1]; i++)
-            if (ok[i])
-                run_path(ctx, &gs, paths[i], &fbuf, cpu, light, floor_s);
+            if (hemicube_path_supported(ctx, paths[i]))
+                run_path(ctx, &gs, paths[i], &fbuf, cpu, light, floor_s, ok[i]);
         gpu_buffer_destroy(ctx, &fbuf);
         for (int h = 0; h < CUBES; h++)
             free(cpu[h]);
