@@ -171,7 +171,7 @@ typedef struct xrad_solver_desc {
     uint32_t max_patches;    /* progressive: most shooting patches along a side of a surface
                                 (dynamic shooter subdivision, thesis 4.3.3); default 8 */
     double subdivide_ratio;  /* progressive: disk form factor subdivided when shooter area /
-                                distance^2 exceeds this (thesis 4.3.3); default 0.1 */
+                                distance^2 exceeds this (thesis 4.3.3); default 0.01 */
     uint32_t max_iterations; /* hard stop: shots (progressive) or bounces (gather); default 100000 */
     uint32_t seed;           /* hemicube rotations (thesis 4.2); default 0 */
 } xrad_solver_desc;

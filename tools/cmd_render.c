@@ -5,13 +5,16 @@
 #include <string.h>
 
 #include "cli.h"
+#include "method.h"
 
 static void help(void)
 {
     printf("usage: xrad render SCENE.json [options]\n\n"
            "Solves the scene and writes the image seen by its camera.\n\n"
-           "  --method NAME     radiosity method: reference (CPU ground truth:\n"
-           "                    analytic form factors, ray-cast visibility, Gauss-Seidel)\n"
+           "  --method NAME     reference: CPU ground truth (analytic form factors,\n"
+           "                    ray-cast visibility, Gauss-Seidel);\n"
+           "                    gather: GPU radiosity hemicube per element per bounce (thesis 4.2);\n"
+           "                    progressive: GPU progressive refinement (thesis 4.3)\n"
            "                    [default: reference]\n"
            "  --out FILE        output image; .png (tone-mapped sRGB) or .exr (linear)\n"
            "  --png FILE        write a PNG here (may be given with --exr)\n"
@@ -24,6 +27,14 @@ static void help(void)
            "  --rays N          reference: visibility rays per element pair [16]\n"
            "  --residual R      reference: Gauss-Seidel stop, max|dB|/max B per sweep [1e-6]\n"
            "  --threads N       reference: worker threads [online cores]\n"
+           "  --hemicube-res N  GPU: hemicube face resolution, even [64]\n"
+           "  --msaa N          gather: radiosity hemicube samples, 1 or 4 [4]\n"
+           "  --bounces N       gather: fixed bounce count [0 = until --threshold]\n"
+           "  --threshold T     GPU: stop when unshot power / bounce change relative to the\n"
+           "                    emitted power falls below T [1e-4]\n"
+           "  --batch N         progressive: shots per submission (one host wait each) [32]\n"
+           "  --max-patches N   progressive: shooting patches per surface side [8]\n"
+           "  --seed N          GPU: hemicube rotation seed [0]\n"
            "  --device NAME     Vulkan device (substring; see xrad devices)\n"
            "  --quiet           no progress on stderr\n\n"
            "The EXR holds the radiosity B (W/m^2) of the surface seen in each pixel.\n");
@@ -34,7 +45,7 @@ typedef struct render_opts {
     uint32_t width, height;
     double time, exposure;
     int nearest, quiet;
-    xrad_reference_desc ref;
+    method_settings m;
 } render_opts;
 
 static void progress(void *user, const char *stage, double fraction)
@@ -81,11 +92,25 @@ static int parse(int argc, char **argv, render_opts *o)
         } else if (!strcmp(opt, "nearest")) {
             o->nearest = 1;
         } else if (!strcmp(opt, "rays")) {
-            cli_uint(&a, 1, 4096, &o->ref.rays);
+            cli_uint(&a, 1, 4096, &o->m.reference.rays);
         } else if (!strcmp(opt, "residual")) {
-            cli_double(&a, 1e-15, 1, &o->ref.residual);
+            cli_double(&a, 1e-15, 1, &o->m.reference.residual);
         } else if (!strcmp(opt, "threads")) {
-            cli_uint(&a, 1, 1024, &o->ref.threads);
+            cli_uint(&a, 1, 1024, &o->m.reference.threads);
+        } else if (!strcmp(opt, "hemicube-res")) {
+            cli_uint(&a, 8, 1024, &o->m.solver.hemicube_res);
+        } else if (!strcmp(opt, "msaa")) {
+            cli_uint(&a, 1, 4, &o->m.solver.msaa);
+        } else if (!strcmp(opt, "bounces")) {
+            cli_uint(&a, 0, 100000, &o->m.solver.bounces);
+        } else if (!strcmp(opt, "threshold")) {
+            cli_double(&a, 1e-12, 0.5, &o->m.solver.threshold);
+        } else if (!strcmp(opt, "batch")) {
+            cli_uint(&a, 1, 4096, &o->m.solver.batch);
+        } else if (!strcmp(opt, "max-patches")) {
+            cli_uint(&a, 1, 64, &o->m.solver.max_patches);
+        } else if (!strcmp(opt, "seed")) {
+            cli_uint(&a, 0, UINT32_MAX, &o->m.solver.seed);
         } else if (!strcmp(opt, "device")) {
             o->device = cli_value(&a);
         } else if (!strcmp(opt, "quiet")) {
@@ -99,9 +124,9 @@ static int parse(int argc, char **argv, render_opts *o)
     if (a.positional_count != 1)
         return cli_usage_error("render", "needs one scene file (see xrad render --help)");
     o->scene = a.positional[0];
-    if (strcmp(o->method, "reference") != 0)
-        return cli_usage_error("render", "--method %s: unknown method (available: reference)",
-                               o->method);
+    if (!method_known(o->method))
+        return cli_usage_error("render", "--method %s: unknown method (available: %s)",
+                               o->method, method_list());
     return 0;
 }
 
@@ -143,11 +168,12 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "xrad: %s: %u elements (%u static, %u dynamic), method %s, device %s\n",
                 o.scene, info.elements, info.static_elements, info.dynamic_elements, o.method,
                 xrad_context_device_name(ctx));
-        o.ref.progress = progress;
+        o.m.reference.progress = progress;
     }
-    o.ref.time = o.time;
-    xrad_reference_stats stats = {0};
-    if (xrad_reference_solve(scene, &o.ref, &atlas, &stats, &err))
+    o.m.reference.time = o.time;
+    o.m.solver.time = o.time;
+    method_result res;
+    if (method_run(ctx, scene, o.method, &o.m, &atlas, &res, &err))
         goto fail;
     double t_solve = cli_now();
 
@@ -172,11 +198,14 @@ int cmd_render(int argc, char **argv)
             goto fail;
         printf("wrote %s (%ux%u)\n", path, w, h);
     }
-    printf("time: load %.3f s, device %.3f s, solve %.3f s (form factors %.3f s, "
-           "Gauss-Seidel %.3f s, %u sweeps, residual %.2g), display %.3f s, total %.3f s\n",
-           t_load - t0, t_ctx - t_load, t_solve - t_ctx, stats.form_factor_seconds,
-           stats.solve_seconds, stats.sweeps, stats.residual, t_display - t_solve,
-           cli_now() - t0);
+    if (res.gpu)
+        method_print_passes(&res);
+    else
+        printf("reference: form factors %.3f s, Gauss-Seidel %.3f s, %u sweeps, residual %.2g\n",
+               res.ref.form_factor_seconds, res.ref.solve_seconds, res.ref.sweeps,
+               res.ref.residual);
+    printf("time: load %.3f s, device %.3f s, solve %.3f s, display %.3f s, total %.3f s\n",
+           t_load - t0, t_ctx - t_load, t_solve - t_ctx, t_display - t_solve, cli_now() - t0);
     rc = 0;
     goto done;
 

@@ -10,6 +10,7 @@ static const struct {
     const char *summary;
 } commands[] = {
     {"render", cmd_render, "solve a scene and write the camera's image (PNG and/or EXR)"},
+    {"bench", cmd_bench, "time methods on scenes and measure their error against a reference"},
     {"compare", cmd_compare, "print the NRMSE of one EXR image against another"},
     {"info", cmd_info, "print a scene's surfaces, elements, atlas and memory"},
     {"devices", cmd_devices, "list the Vulkan devices xrad can use"},

@@ -66,7 +66,7 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
         return xrad_fail(err, XRAD_ERROR_INPUT,
                          "solver: max_patches must be in [1, 64], got %u", d->max_patches);
     if (d->subdivide_ratio == 0)
-        d->subdivide_ratio = 0.1;
+        d->subdivide_ratio = 0.01;
     if (!(d->subdivide_ratio > 0 && d->subdivide_ratio <= 1e6))
         return xrad_fail(err, XRAD_ERROR_INPUT,
                          "solver: subdivide_ratio must be in (0, 1e6], got %g",

@@ -1,0 +1,298 @@
+/* xrad bench: per scene and method, frame time, per-pass GPU time, work
+ * counters and NRMSE against a reference image (thesis tables 5.1 and 5.2). */
+#include <cjson/cJSON.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "method.h"
+
+static void help(void)
+{
+    printf("usage: xrad bench SCENE.json... [--methods LIST] [--json FILE] [options]\n\n"
+           "Solves each scene with each method and prints a table: frame time (median of\n"
+           "--repeat solves; the whole solve for methods that restart), GPU time per pass\n"
+           "(timestamp queries), hemicubes, shots, host waits, and NRMSE of the camera image\n"
+           "against a reference image.\n\n"
+           "  --methods LIST     comma-separated: %s [gather,progressive]\n"
+           "  --json FILE        also write the rows as JSON\n"
+           "  --repeat N         solves per scene and method; the median is reported [3]\n"
+           "  --width N, --height N   image size for NRMSE [the scene camera's]\n"
+           "  --reference-rays N CPU reference visibility rays [32]\n"
+           "  --cache DIR        where reference images are kept [out/bench-cache]\n"
+           "  --max-reference-elements N  above this element count the reference is a\n"
+           "                     high-quality GPU gather (hemicube 128, 4x MSAA, threshold\n"
+           "                     1e-5) instead of the CPU solver [12000]\n"
+           "  --hemicube-res N, --threshold T, --batch N   GPU settings (see xrad render)\n"
+           "  --device NAME      Vulkan device\n\n"
+           "Reference images are cached in the cache directory under a name that hashes the\n"
+           "scene file, the reference settings and the image size.\n",
+           method_list());
+}
+
+typedef struct bench_opts {
+    const char *scenes[8];
+    int scene_count;
+    const char *methods, *json, *cache, *device;
+    uint32_t repeat, width, height, ref_rays, max_ref_elements;
+    method_settings m;
+} bench_opts;
+
+/* FNV-1a, to name cached references by what made them. */
+static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ p[i]) * 0x100000001b3ULL;
+    return h;
+}
+
+static uint64_t hash_file(uint64_t h, const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return h;
+    char buf[4096];
+    size_t n;
+    while ((n = fread(buf, 1, sizeof(buf), f)) > 0)
+        h = fnv1a(h, buf, n);
+    fclose(f);
+    return h;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The reference image for a scene: from the cache, or made and cached. */
+static xrad_status reference_image(xrad_context *ctx, const char *path, const xrad_scene *scene,
+                                   const bench_opts *o, float **img, uint32_t *w, uint32_t *h,
+                                   char *kind, size_t kind_n, xrad_error *err)
+{
+    xrad_scene_info info;
+    xrad_scene_get_info(scene, &info);
+    bool cpu = info.elements <= o->max_ref_elements;
+    char settings[256];
+    if (cpu)
+        snprintf(settings, sizeof(settings), "cpu-reference rays=%u residual=1e-7", o->ref_rays);
+    else
+        snprintf(settings, sizeof(settings), "gather res=128 msaa=4 threshold=1e-5");
+    snprintf(kind, kind_n, "%s", cpu ? "cpu-reference" : "gather-high");
+    uint64_t hash = hash_file(0xcbf29ce484222325ULL, path);
+    hash = fnv1a(hash, settings, strlen(settings));
+    uint32_t size[2] = {o->width, o->height};
+    hash = fnv1a(hash, size, sizeof(size));
+    char name[256], cached[1024];
+    snprintf(cached, sizeof(cached), "%s/%s-%016llx.exr", o->cache,
+             cli_basename_noext(path, name, sizeof(name)), (unsigned long long)hash);
+    xrad_error ignored;
+    if (xrad_image_read_exr(cached, img, w, h, &ignored) == XRAD_OK) {
+        fprintf(stderr, "bench: %s: reference from %s\n", path, cached);
+        return XRAD_OK;
+    }
+    fprintf(stderr, "bench: %s: making the reference (%s)\n", path, settings);
+    xrad_atlas atlas = {0};
+    xrad_status st = xrad_atlas_create(scene, &atlas, err);
+    if (st)
+        return st;
+    method_settings m = {0};
+    m.reference.rays = o->ref_rays;
+    m.reference.residual = 1e-7;
+    m.solver.hemicube_res = 128;
+    m.solver.msaa = 4;
+    m.solver.threshold = 1e-5;
+    method_result r;
+    st = method_run(ctx, scene, cpu ? "reference" : "gather", &m, &atlas, &r, err);
+    xrad_view_desc view = {.width = o->width, .height = o->height};
+    if (!st)
+        st = xrad_render_view(ctx, scene, &atlas, &view, img, w, h, err);
+    xrad_atlas_destroy(&atlas);
+    if (!st && cli_make_parent_dirs(cached) &&
+        xrad_image_write_exr(cached, *img, *w, *h, &ignored) == XRAD_OK) {
+        char meta[1100];
+        snprintf(meta, sizeof(meta), "%s.txt", cached);
+        FILE *f = fopen(meta, "w");
+        if (f) {
+            fprintf(f, "scene %s\nsettings %s\nsize %ux%u\n", path, settings, *w, *h);
+            fclose(f);
+        }
+    }
+    return st;
+}
+
+static int parse(int argc, char **argv, bench_opts *o)
+{
+    cli_args a;
+    cli_init(&a, argc, argv);
+    o->methods = "gather,progressive";
+    o->cache = "out/bench-cache";
+    o->repeat = 3;
+    o->ref_rays = 32;
+    o->max_ref_elements = 12000;
+    const char *opt;
+    while ((opt = cli_next(&a)) && !a.failed) {
+        if (cli_is_help(opt)) {
+            help();
+            return -1;
+        } else if (!strcmp(opt, "methods")) {
+            o->methods = cli_value(&a);
+        } else if (!strcmp(opt, "json")) {
+            o->json = cli_value(&a);
+        } else if (!strcmp(opt, "cache")) {
+            o->cache = cli_value(&a);
+        } else if (!strcmp(opt, "repeat")) {
+            cli_uint(&a, 1, 1000, &o->repeat);
+        } else if (!strcmp(opt, "width")) {
+            cli_uint(&a, 1, 16384, &o->width);
+        } else if (!strcmp(opt, "height")) {
+            cli_uint(&a, 1, 16384, &o->height);
+        } else if (!strcmp(opt, "reference-rays")) {
+            cli_uint(&a, 1, 4096, &o->ref_rays);
+        } else if (!strcmp(opt, "max-reference-elements")) {
+            cli_uint(&a, 0, 100000, &o->max_ref_elements);
+        } else if (!strcmp(opt, "hemicube-res")) {
+            cli_uint(&a, 8, 1024, &o->m.solver.hemicube_res);
+        } else if (!strcmp(opt, "threshold")) {
+            cli_double(&a, 1e-12, 0.5, &o->m.solver.threshold);
+        } else if (!strcmp(opt, "batch")) {
+            cli_uint(&a, 1, 4096, &o->m.solver.batch);
+        } else if (!strcmp(opt, "device")) {
+            o->device = cli_value(&a);
+        } else {
+            cli_unknown(&a, opt);
+        }
+    }
+    if (a.failed)
+        return 1;
+    if (a.positional_count < 1)
+        return cli_usage_error("bench", "needs at least one scene file (see xrad bench --help)");
+    for (int i = 0; i < a.positional_count; i++)
+        o->scenes[o->scene_count++] = a.positional[i];
+    char list[512];
+    snprintf(list, sizeof(list), "%s", o->methods);
+    for (char *save = NULL, *m = strtok_r(list, ",", &save); m; m = strtok_r(NULL, ",", &save))
+        if (!method_known(m))
+            return cli_usage_error("bench", "--methods: unknown method '%s' (available: %s)", m,
+                                   method_list());
+    return 0;
+}
+
+/* One scene x method: `repeat` solves, the last one's image for NRMSE. */
+static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *scene,
+                             const char *method, const bench_opts *o, const float *ref,
+                             uint32_t rw, uint32_t rh, const char *ref_kind, cJSON *rows,
+                             xrad_error *err)
+{
+    xrad_atlas atlas = {0};
+    xrad_status st = xrad_atlas_create(scene, &atlas, err);
+    if (st)
+        return st;
+    double *wall = calloc(o->repeat, sizeof(double)), *gpu = calloc(o->repeat, sizeof(double));
+    method_result r = {0};
+    float *img = NULL;
+    uint32_t w = 0, h = 0;
+    if (!wall || !gpu) {
+        st = cli_fail(err, XRAD_ERROR_SYSTEM, "bench: out of memory");
+        goto done;
+    }
+    for (uint32_t k = 0; k < o->repeat && !st; k++) {
+        st = method_run(ctx, scene, method, &o->m, &atlas, &r, err);
+        wall[k] = r.wall_ms;
+        gpu[k] = r.gpu ? r.stats.gpu_ms : r.wall_ms;
+    }
+    if (st)
+        goto done;
+    xrad_view_desc view = {.width = rw, .height = rh};
+    if ((st = xrad_render_view(ctx, scene, &atlas, &view, &img, &w, &h, err)))
+        goto done;
+    qsort(wall, o->repeat, sizeof(double), cmp_double);
+    qsort(gpu, o->repeat, sizeof(double), cmp_double);
+    double nrmse = xrad_image_nrmse(img, ref, w, h);
+
+    cJSON *row = cJSON_CreateObject();
+    cJSON_AddStringToObject(row, "scene", path);
+    cJSON_AddStringToObject(row, "method", method);
+    cJSON_AddNumberToObject(row, "frame_ms", wall[o->repeat / 2]);
+    cJSON_AddNumberToObject(row, "gpu_ms", gpu[o->repeat / 2]);
+    cJSON *passes = cJSON_AddObjectToObject(row, "passes");
+    for (uint32_t i = 0; r.gpu && i < r.stats.pass_count; i++)
+        cJSON_AddNumberToObject(passes, r.stats.passes[i].name, r.stats.passes[i].ms);
+    cJSON_AddNumberToObject(row, "hemicubes", r.gpu ? r.stats.hemicubes : 0);
+    cJSON_AddNumberToObject(row, "shots", r.gpu ? r.stats.shots : 0);
+    cJSON_AddNumberToObject(row, "iterations", r.gpu ? r.stats.iterations : r.ref.sweeps);
+    cJSON_AddNumberToObject(row, "submissions", r.gpu ? r.stats.submissions : 0);
+    cJSON_AddNumberToObject(row, "host_waits", r.gpu ? r.stats.host_waits : 0);
+    cJSON_AddNumberToObject(row, "nrmse", nrmse);
+    cJSON_AddStringToObject(row, "reference", ref_kind);
+    cJSON_AddStringToObject(row, "hemicube_path",
+                            r.gpu && r.stats.hemicube_path ? r.stats.hemicube_path : "-");
+    cJSON_AddStringToObject(row, "device", xrad_context_device_name(ctx));
+    cJSON_AddNumberToObject(row, "repeat", o->repeat);
+    cJSON_AddItemToArray(rows, row);
+
+    printf("%-28s %-12s %12.1f %12.1f %10u %8u %7u %10.5f\n", path, method, wall[o->repeat / 2],
+           gpu[o->repeat / 2], r.gpu ? r.stats.hemicubes : 0, r.gpu ? r.stats.shots : 0,
+           r.gpu ? r.stats.host_waits : 0, nrmse);
+    for (uint32_t i = 0; r.gpu && i < r.stats.pass_count; i++)
+        printf("%-28s   %-20s %10.2f ms\n", "", r.stats.passes[i].name, r.stats.passes[i].ms);
+    fflush(stdout);
+done:
+    free(img);
+    free(wall);
+    free(gpu);
+    xrad_atlas_destroy(&atlas);
+    return st;
+}
+
+int cmd_bench(int argc, char **argv)
+{
+    bench_opts o = {0};
+    int rc = parse(argc, argv, &o);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    xrad_error err = {0};
+    xrad_context *ctx = NULL;
+    if (xrad_context_create(&(xrad_context_desc){.device = o.device}, &ctx, &err))
+        return cli_report(&err);
+    cJSON *rows = cJSON_CreateArray();
+    printf("device: %s\n", xrad_context_device_name(ctx));
+    printf("%-28s %-12s %12s %12s %10s %8s %7s %10s\n", "scene", "method", "frame_ms",
+           "gpu_ms", "hemicubes", "shots", "waits", "nrmse");
+    xrad_status st = XRAD_OK;
+    for (int i = 0; i < o.scene_count && !st; i++) {
+        const char *path = o.scenes[i];
+        xrad_scene *scene = NULL;
+        if ((st = xrad_scene_load(path, &scene, &err)))
+            break;
+        float *ref = NULL;
+        uint32_t rw = 0, rh = 0;
+        char kind[32];
+        st = reference_image(ctx, path, scene, &o, &ref, &rw, &rh, kind, sizeof(kind), &err);
+        char list[512];
+        snprintf(list, sizeof(list), "%s", o.methods);
+        for (char *save = NULL, *m = strtok_r(list, ",", &save); m && !st;
+             m = strtok_r(NULL, ",", &save))
+            st = bench_one(ctx, path, scene, m, &o, ref, rw, rh, kind, rows, &err);
+        free(ref);
+        xrad_scene_destroy(&scene);
+    }
+    if (!st && o.json) {
+        char *text = cJSON_Print(rows);
+        FILE *f = text && cli_make_parent_dirs(o.json) ? fopen(o.json, "w") : NULL;
+        if (f) {
+            fputs(text, f);
+            fputc('\n', f);
+            fclose(f);
+            printf("wrote %s\n", o.json);
+        } else {
+            st = cli_fail(&err, XRAD_ERROR_SYSTEM, "%s: cannot write", o.json);
+        }
+        free(text);
+    }
+    cJSON_Delete(rows);
+    xrad_context_destroy(&ctx);
+    return st ? cli_report(&err) : 0;
+}
