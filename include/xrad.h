@@ -236,7 +236,8 @@ xrad_status xrad_render_view(xrad_context *ctx, const xrad_scene *scene,
 /* Linear 32-bit float RGBA OpenEXR (ZIP compressed). */
 xrad_status xrad_image_write_exr(const char *path, const float *rgba, uint32_t width,
                                  uint32_t height, xrad_error *err);
-/* Reads any RGB(A) OpenEXR into float RGBA; *rgba is malloc'd. */
+/* Reads the R, G, B channels of a scanline OpenEXR (half or float) into
+ * float RGBA with alpha 1; *rgba is malloc'd. */
 xrad_status xrad_image_read_exr(const char *path, float **rgba, uint32_t *width,
                                 uint32_t *height, xrad_error *err);
 

@@ -8,6 +8,9 @@
 
 #include "core/error.h"
 
+/* 2^26 texels, 1 GiB of RGBA float: far above any image xrad writes. */
+#define MAX_TEXELS (1 << 26)
+
 static xrad_status exr_fail(xrad_error *err, const char *path, const char *what, exr_result_t r)
 {
     xrad_status st = r == EXR_ERR_FILE_ACCESS || r == EXR_ERR_MISSING_CONTEXT_ARG ||
@@ -132,14 +135,23 @@ xrad_status xrad_image_read_exr(const char *path, float **out, uint32_t *width, 
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: data window %lldx%lld is out of range",
                          path, (long long)w, (long long)h);
     }
+    /* Before allocating for the data window, check that the file's chunk
+     * table really reaches its last scanline: a few hundred bytes must not
+     * make us allocate gigabytes (found by the fuzzer, tests/fuzz). */
+    if (w * h > MAX_TEXELS) {
+        exr_finish(&ctx);
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: %lldx%lld pixels is more than %d", path,
+                         (long long)w, (long long)h, MAX_TEXELS);
+    }
+    exr_chunk_info_t last;
+    if ((r = exr_read_scanline_chunk_info(ctx, 0, dw.max.y, &last)))
+        goto fail;
     float *px = calloc((size_t)(w * h * 4), sizeof(float));
     if (!px) {
         exr_finish(&ctx);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for %lldx%lld pixels", path,
                          (long long)w, (long long)h);
     }
-    for (int64_t i = 0; i < w * h; i++)
-        px[i * 4 + 3] = 1.0f;
 
     what = "pixels";
     int32_t lines = 1;
@@ -163,7 +175,10 @@ xrad_status xrad_image_read_exr(const char *path, float **out, uint32_t *width, 
         for (int c = 0; c < dec.channel_count; c++) {
             exr_coding_channel_info_t *ch = &dec.channels[c];
             int off = strlen(ch->channel_name) == 1 ? rgba_offset(ch->channel_name) : -1;
-            if (off < 0 || ch->x_samples != 1 || ch->y_samples != 1) {
+            /* Alpha is not read: xrad does not use it, and OpenEXRCore 3.1's
+             * four-channel half unpacker returns half RGBA reversed (ABGR),
+             * while three channels come back right. */
+            if (off < 0 || off == 3 || ch->x_samples != 1 || ch->y_samples != 1) {
                 ch->decode_to_ptr = NULL;
                 continue;
             }
@@ -189,6 +204,8 @@ xrad_status xrad_image_read_exr(const char *path, float **out, uint32_t *width, 
     if (r)
         goto fail_px;
     exr_finish(&ctx);
+    for (int64_t i = 0; i < w * h; i++)
+        px[i * 4 + 3] = 1.0f;
     if ((found & 7) != 7) {
         free(px);
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: no full-resolution R, G and B channels",

@@ -44,6 +44,24 @@ static void test_exr_roundtrip(const char *dir)
     CHECK(strstr(err.message, "not-an-exr.exr") != NULL, "message: %s", err.message);
 }
 
+/* A half-float RGBA file written by another tool (OpenEXRCore, PIZ): pixel
+ * 0 is (1, 1.0625, 1.125) by OpenEXR's C++ RgbaInputFile. OpenEXRCore 3.1
+ * unpacked four half channels in reverse order (tests/fuzz/README.md). */
+static void test_exr_half_rgba(void)
+{
+    char path[512];
+    test_source_path("tests/fuzz/corpus/exr/rgba-half-piz-8x8.exr", path, sizeof(path));
+    float *px = NULL;
+    uint32_t w = 0, h = 0;
+    xrad_error err = {0};
+    CHECK(xrad_image_read_exr(path, &px, &w, &h, &err) == XRAD_OK, "%s", err.message);
+    if (px) {
+        CHECK(px[0] == 1.0f && px[1] == 1.0625f && px[2] == 1.125f && px[3] == 1.0f,
+              "pixel 0 = (%g, %g, %g, %g)", px[0], px[1], px[2], px[3]);
+    }
+    free(px);
+}
+
 static void test_png_srgb(const char *dir)
 {
     /* Exposure 1: 0 -> 0, 1 -> 255, 0.5 -> sRGB(0.5) = 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354 -> 188;
@@ -99,6 +117,7 @@ int main(void)
         return test_skip("cannot make a temporary directory");
     test_exr_roundtrip(dir);
     test_png_srgb(dir);
+    test_exr_half_rgba();
     test_nrmse();
     return test_finish();
 }
