@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "method.h"
@@ -89,7 +90,7 @@ static xrad_status reference_image(xrad_context *ctx, const char *path, const xr
     snprintf(cached, sizeof(cached), "%s/%s-%016llx.exr", o->cache,
              cli_basename_noext(path, name, sizeof(name)), (unsigned long long)hash);
     xrad_error ignored;
-    if (xrad_image_read_exr(cached, img, w, h, &ignored) == XRAD_OK) {
+    if (access(cached, R_OK) == 0 && xrad_image_read_exr(cached, img, w, h, &ignored) == XRAD_OK) {
         fprintf(stderr, "bench: %s: reference from %s\n", path, cached);
         return XRAD_OK;
     }

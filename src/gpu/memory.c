@@ -157,6 +157,9 @@ struct gpu_memory {
     uint64_t category_bytes[GPU_MEM_CATEGORY_COUNT];
     uint64_t heap_bytes[VK_MAX_MEMORY_HEAPS];
     uint32_t block_count, allocations;
+    /* $XRAD_GPU_MEMORY_MIB: a smaller budget than the device's, so that
+     * "does not fit" can be tried on any machine. 0: none. */
+    uint64_t budget_limit;
 };
 
 const char *gpu_mem_category_name(gpu_mem_category c)
@@ -171,6 +174,17 @@ xrad_status gpu_memory_create(struct xrad_context *ctx, gpu_memory **out, xrad_e
     gpu_memory *m = calloc(1, sizeof(*m));
     if (!m)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (memory allocator)");
+    const char *limit = getenv("XRAD_GPU_MEMORY_MIB");
+    if (limit && *limit) {
+        char *end;
+        double mib = strtod(limit, &end);
+        if (*end || !(mib > 0 && mib < 1e9)) {
+            free(m);
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "XRAD_GPU_MEMORY_MIB: '%s' is not a size in MiB in (0, 1e9)", limit);
+        }
+        m->budget_limit = (uint64_t)(mib * 1048576.0);
+    }
     *out = m;
     return XRAD_OK;
 }
@@ -378,6 +392,8 @@ void gpu_memory_get_stats(struct xrad_context *ctx, gpu_memory_stats *stats)
         stats->heap_bytes[h] = m ? m->heap_bytes[h] : 0;
         stats->heap_budget[h] =
             ctx->features.memory_budget ? budget.heapBudget[h] : stats->heap_size[h] / 4 * 3;
+        if (m && m->budget_limit && m->budget_limit < stats->heap_budget[h])
+            stats->heap_budget[h] = m->budget_limit;
     }
     if (m) {
         memcpy(stats->category_bytes, m->category_bytes, sizeof(stats->category_bytes));

@@ -86,5 +86,22 @@ expect 0 "compare identical" -- "$xrad" compare "$tmp/tiny.exr" "$tmp/tiny2.exr"
 expect_text "$tmp/out" "^nrmse 0.0000000$" "identical renders have NRMSE 0"
 expect 1 "compare non-EXR" -- "$xrad" compare "$tmp/tiny.png" "$tmp/tiny.exr"
 
+# GPU methods on the tiny scene, and GPU failures: exit 2 with the call named
+expect 0 "render progressive" -- "$xrad" render "$tmp/tiny.json" --method progressive --exr "$tmp/pr.exr" --quiet
+expect_text "$tmp/out" "reconstruct" "progressive prints per-pass GPU times"
+expect 0 "render gather" -- "$xrad" render "$tmp/tiny.json" --method gather --hemicube-res 16 --exr "$tmp/ga.exr" --quiet
+expect_text "$tmp/out" "integrate" "gather prints per-pass GPU times"
+expect 2 "out of device memory" -- env XRAD_FAULT=vkAllocateMemory:1:VK_ERROR_OUT_OF_DEVICE_MEMORY "$xrad" render "$tmp/tiny.json" --method progressive --quiet --exr "$tmp/f.exr"
+expect_text "$tmp/err" "vkAllocateMemory" "the failing call is named"
+expect_text "$tmp/err" "VK_ERROR_OUT_OF_DEVICE_MEMORY" "the error is named"
+expect 2 "out of host memory" -- env XRAD_FAULT=vkCreateBuffer:2:VK_ERROR_OUT_OF_HOST_MEMORY "$xrad" render "$tmp/tiny.json" --method progressive --quiet --exr "$tmp/f.exr"
+expect_text "$tmp/err" "VK_ERROR_OUT_OF_HOST_MEMORY" "the error is named"
+expect 2 "device lost" -- env XRAD_FAULT=vkQueueSubmit:2:VK_ERROR_DEVICE_LOST "$xrad" render "$tmp/tiny.json" --method progressive --quiet --exr "$tmp/f.exr"
+expect_text "$tmp/err" "VK_ERROR_DEVICE_LOST" "the error is named"
+# a scene that does not fit is refused before its buffers are allocated,
+# with the bytes needed and left
+expect 2 "scene too big for the GPU" -- env XRAD_GPU_MEMORY_MIB=0.05 "$xrad" render "$tmp/tiny.json" --method progressive --quiet --exr "$tmp/f.exr"
+expect_text "$tmp/err" "needs .* MiB of GPU memory, but only" "needed and available are named"
+
 echo "$checks checks, $fails failed"
 [ "$fails" -eq 0 ]
