@@ -77,7 +77,7 @@ xrad_status render_view(struct xrad_context *ctx, const xrad_scene *scene,
     gpu_image atlas_image = {0};
     gpu_cmd cmd = {0};
     float *out = NULL;
-    if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "render view", err)) ||
+    if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "the image", err)) ||
         (s = display_create(ctx, &pass, err)) ||
         (s = display_target_create(ctx, pass, w, h, &target, err)))
         goto done;

@@ -211,7 +211,7 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
         .category = GPU_MEM_RADIOSITY,
     };
     xrad_status s;
-    if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "GPU scene", err)) ||
+    if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "scene data", err)) ||
         (s = gpu_buffer_create(ctx, ns * sizeof(struct gpu_surface), storage, GPU_MEM_DEVICE,
                                GPU_MEM_GEOMETRY, &out->surfaces, err)) ||
         (s = gpu_buffer_create(ctx, ne * sizeof(struct gpu_element), storage, GPU_MEM_DEVICE,
