@@ -209,6 +209,10 @@ void xrad_solver_destroy(xrad_solver **solver);
 /* Restarts from B = E and solves to the desc's threshold. */
 xrad_status xrad_solver_solve(xrad_solver *solver, xrad_error *err);
 
+/* Poses dynamic objects at scene time `time` (s) for the following solves;
+ * the solution in hand is kept until the next xrad_solver_solve. */
+xrad_status xrad_solver_set_time(xrad_solver *solver, double time, xrad_error *err);
+
 /* The current solution B in the scene's atlas layout. */
 xrad_status xrad_solver_read(xrad_solver *solver, xrad_atlas *atlas, xrad_error *err);
 

@@ -23,6 +23,10 @@ static void help(void)
            "  --width N, --height N   image size [default: the scene camera's]\n"
            "  --time T          seconds of scene animation to pose dynamic objects [0]\n"
            "  --exposure E      PNG scale factor; 0 = auto (95th percentile -> 0.8) [0]\n"
+           "  --frames N        advance N frames of the scene's animation after the first\n"
+           "                    and write the last [0]\n"
+           "  --fps F           frames per second of scene time [30]\n"
+           "  --frame-out DIR   also write every frame as DIR/frame-NNNN.png\n"
            "  --nearest         show elements as flat squares (no interpolation)\n"
            "  --rays N          reference: visibility rays per element pair [16]\n"
            "  --residual R      reference: Gauss-Seidel stop, max|dB|/max B per sweep [1e-6]\n"
@@ -43,7 +47,9 @@ static void help(void)
 typedef struct render_opts {
     const char *scene, *method, *png, *exr, *device;
     uint32_t width, height;
-    double time, exposure;
+    double time, exposure, fps;
+    uint32_t frames;
+    const char *frame_out;
     int nearest, quiet;
     method_settings m;
 } render_opts;
@@ -63,6 +69,7 @@ static int parse(int argc, char **argv, render_opts *o)
     cli_init(&a, argc, argv);
     const char *opt;
     o->method = "reference";
+    o->fps = 30;
     while ((opt = cli_next(&a)) && !a.failed) {
         if (cli_is_help(opt)) {
             help();
@@ -87,6 +94,12 @@ static int parse(int argc, char **argv, render_opts *o)
             cli_uint(&a, 1, 16384, &o->height);
         } else if (!strcmp(opt, "time")) {
             cli_double(&a, -1e9, 1e9, &o->time);
+        } else if (!strcmp(opt, "frames")) {
+            cli_uint(&a, 0, 1000000, &o->frames);
+        } else if (!strcmp(opt, "fps")) {
+            cli_double(&a, 1e-3, 1e6, &o->fps);
+        } else if (!strcmp(opt, "frame-out")) {
+            o->frame_out = cli_value(&a);
         } else if (!strcmp(opt, "exposure")) {
             cli_double(&a, 0, 1e30, &o->exposure);
         } else if (!strcmp(opt, "nearest")) {
@@ -170,19 +183,50 @@ int cmd_render(int argc, char **argv)
                 xrad_context_device_name(ctx));
         o.m.reference.progress = progress;
     }
-    o.m.reference.time = o.time;
-    o.m.solver.time = o.time;
+    /* Frame 0 at --time, then --frames more, 1/--fps apart; the methods of
+     * this build restart each frame (thesis 5.2: gather and progressive
+     * solve every frame anew). The last frame is the image written. */
     method_result res;
-    if (method_run(ctx, scene, o.method, &o.m, &atlas, &res, &err))
-        goto fail;
-    double t_solve = cli_now();
-
     uint32_t w = 0, h = 0;
-    xrad_view_desc view = {.width = o.width, .height = o.height, .time = o.time,
-                           .nearest = o.nearest};
-    if (xrad_render_view(ctx, scene, &atlas, &view, &image, &w, &h, &err))
-        goto fail;
-    double t_display = cli_now();
+    double t_solve = 0, t_display = 0, exposure = o.exposure, frame_ms = 0;
+    for (uint32_t f = 0; f <= o.frames; f++) {
+        double t = o.time + (double)f / o.fps;
+        double tf0 = cli_now();
+        o.m.reference.time = t;
+        o.m.solver.time = t;
+        if (method_run(ctx, scene, o.method, &o.m, &atlas, &res, &err))
+            goto fail;
+        t_solve = cli_now();
+        if (f > 0)
+            frame_ms += (t_solve - tf0) * 1e3;
+        free(image);
+        image = NULL;
+        xrad_view_desc view = {.width = o.width, .height = o.height, .time = t,
+                               .nearest = o.nearest};
+        if (xrad_render_view(ctx, scene, &atlas, &view, &image, &w, &h, &err))
+            goto fail;
+        t_display = cli_now();
+        /* One exposure for all frames, so that they compare. */
+        if (!(exposure > 0))
+            exposure = xrad_image_auto_exposure(image, w, h);
+        if (o.frame_out) {
+            char path[1024];
+            snprintf(path, sizeof(path), "%s/frame-%04u.png", o.frame_out, f);
+            if (!cli_make_parent_dirs(path)) {
+                cli_fail(&err, XRAD_ERROR_SYSTEM, "%s: cannot create its directory", path);
+                goto fail;
+            }
+            if (xrad_image_write_png(path, image, w, h, exposure, &err))
+                goto fail;
+        }
+        if (o.frames && !o.quiet)
+            fprintf(stderr, "\r  frame %u/%u (t = %.3f s)", f, o.frames, t);
+    }
+    if (o.frames && !o.quiet)
+        fputc('\n', stderr);
+    if (o.frames)
+        printf("frames: %u after the first, %.1f ms per frame (solve only), %s\n", o.frames,
+               frame_ms / o.frames, o.frame_out ? o.frame_out : "last frame written below");
 
     for (int k = 0; k < 2; k++) {
         const char *path = k == 0 ? o.exr : o.png;
@@ -193,7 +237,7 @@ int cmd_render(int argc, char **argv)
             goto fail;
         }
         xrad_status st = k == 0 ? xrad_image_write_exr(path, image, w, h, &err)
-                                : xrad_image_write_png(path, image, w, h, o.exposure, &err);
+                                : xrad_image_write_png(path, image, w, h, exposure, &err);
         if (st)
             goto fail;
         printf("wrote %s (%ux%u)\n", path, w, h);

@@ -64,6 +64,7 @@ typedef struct gather {
     double *emission, *albedo; /* 3 per element */
     double *B;                 /* 3 per element, the current bounce */
     double max_emission;
+    double frames_time; /* pose the frames were built for */
 } gather;
 
 static uint32_t batch_size(const xrad_solver *s)
@@ -153,6 +154,8 @@ static xrad_status build_frames(xrad_solver *s, gather *g, xrad_error *err)
     }
     xrad_status st = gpu_upload_buffer(s->ctx, &g->frames, 0, f, (n ? n : 1) * sizeof(*f), err);
     free(f);
+    if (!st)
+        g->frames_time = s->desc.time;
     return st;
 }
 
@@ -367,11 +370,14 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
 {
     gather *g = s->impl;
     uint32_t n = s->gs.element_count;
+    xrad_status st = XRAD_OK;
+    /* The objects moved since the frames were built (xrad_solver_set_time). */
+    if (g->frames_time != s->desc.time && (st = build_frames(s, g, err)))
+        return st;
     memcpy(g->B, g->emission, 3 * (size_t)n * sizeof(double));
     uint32_t limit = s->desc.bounces ? s->desc.bounces : s->desc.max_iterations;
     if (limit > s->desc.max_iterations)
         limit = s->desc.max_iterations;
-    xrad_status st = XRAD_OK;
     double residual = 0;
     for (uint32_t k = 0; k < limit && n; k++) {
         double max_b = stage_b(s, g);

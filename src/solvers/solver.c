@@ -139,6 +139,16 @@ xrad_status xrad_solver_solve(xrad_solver *s, xrad_error *err)
     return st;
 }
 
+xrad_status xrad_solver_set_time(xrad_solver *s, double time, xrad_error *err)
+{
+    if (!(time >= -1e9 && time <= 1e9))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: time must be finite, got %g", time);
+    xrad_status st = gpu_scene_pose(s->ctx, &s->gs, time, err);
+    if (!st)
+        s->desc.time = time;
+    return st;
+}
+
 xrad_status xrad_solver_read(xrad_solver *s, xrad_atlas *atlas, xrad_error *err)
 {
     return gpu_scene_read(s->ctx, &s->gs, atlas, err);

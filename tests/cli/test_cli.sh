@@ -74,7 +74,7 @@ cat >"$tmp/tiny.json" <<'JSON'
                {"name": "lamp", "albedo": [0, 0, 0], "emission": [10, 10, 10]}],
  "objects": [{"name": "room", "surfaces": [
    {"name": "walls", "material": "white", "box": {"origin": [0, 0, 0], "u": [1, 0, 0], "v": [0, 1, 0], "w": [0, 0, 1]}, "inward": true},
-   {"name": "light", "material": "lamp", "quad": {"origin": [0.4, 0.99, 0.4], "u": [0, 0, 0.2], "v": [0.2, 0, 0]}}]}],
+   {"name": "light", "material": "lamp", "quad": {"origin": [0.4, 0.99, 0.4], "u": [0.2, 0, 0], "v": [0, 0, 0.2]}}]}],
  "camera": {"position": [0.5, 0.5, 0.05], "look_at": [0.5, 0.5, 1], "up": [0, 1, 0], "fov_degrees": 60, "width": 64, "height": 64}}
 JSON
 expect 0 "render tiny" -- "$xrad" render "$tmp/tiny.json" --out "$tmp/tiny.exr" --quiet
@@ -85,6 +85,14 @@ expect 0 "render tiny png" -- "$xrad" render "$tmp/tiny.json" --png "$tmp/tiny.p
 expect 0 "compare identical" -- "$xrad" compare "$tmp/tiny.exr" "$tmp/tiny2.exr"
 expect_text "$tmp/out" "^nrmse 0.0000000$" "identical renders have NRMSE 0"
 expect 1 "compare non-EXR" -- "$xrad" compare "$tmp/tiny.png" "$tmp/tiny.exr"
+
+# frames: the last of --frames N at --fps F is the render at time N / F
+expect 0 "frames" -- "$xrad" render "$tmp/tiny.json" --method progressive --frames 3 --fps 6 --frame-out "$tmp/frames" --exr "$tmp/last.exr" --quiet
+n=$(ls "$tmp/frames" | grep -c '^frame-000[0-3].png$')
+checks=$((checks + 1)); [ "$n" -eq 4 ] || { fails=$((fails + 1)); echo "FAIL: $n frame files, want 4"; }
+expect 0 "render at the last frame's time" -- "$xrad" render "$tmp/tiny.json" --method progressive --time 0.5 --exr "$tmp/at.exr" --quiet
+expect 0 "compare frames" -- "$xrad" compare "$tmp/last.exr" "$tmp/at.exr"
+expect_text "$tmp/out" "^nrmse 0.0000000$" "the last frame is the pose at N / fps"
 
 # GPU methods on the tiny scene, and GPU failures: exit 2 with the call named
 expect 0 "render progressive" -- "$xrad" render "$tmp/tiny.json" --method progressive --exr "$tmp/pr.exr" --quiet
