@@ -45,6 +45,22 @@ xrad_status gpu_compute_pipeline_create(struct xrad_context *ctx, const uint32_t
                                         const VkSpecializationInfo *spec, VkPipeline *out,
                                         xrad_error *err);
 
+/* A render pass of one subpass with one colour and one depth attachment,
+ * both cleared on load; the colour is stored and left in
+ * `color_final_layout`, the depth is not stored. Its dependencies order it
+ * after earlier draws and after earlier readers of the images (compute,
+ * fragment, transfer), and before later readers. view_mask != 0 makes it a
+ * multiview pass over those views. */
+typedef struct gpu_render_pass_desc {
+    VkFormat color_format, depth_format;
+    VkSampleCountFlagBits samples; /* 0 means 1 */
+    VkImageLayout color_final_layout;
+    uint32_t view_mask;
+} gpu_render_pass_desc;
+
+xrad_status gpu_render_pass_create(struct xrad_context *ctx, const gpu_render_pass_desc *desc,
+                                   VkRenderPass *out, xrad_error *err);
+
 /* A graphics pipeline for one subpass: triangle lists unless `topology`
  * says otherwise, no blending, viewport and scissor dynamic. */
 typedef struct gpu_graphics_desc {

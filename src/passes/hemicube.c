@@ -74,90 +74,18 @@ static xrad_status create_render_pass(hemicube_pass *p, xrad_error *err)
 {
     bool rad = p->desc.kind == HEMICUBE_RADIOSITY;
     bool resolve = rad && p->desc.msaa > 1;
-    VkSampleCountFlagBits samples = resolve ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
-    VkAttachmentDescription att[2] = {
-        {
-            .format = rad ? HEMICUBE_RADIOSITY_FORMAT : HEMICUBE_ID_FORMAT,
-            .samples = samples,
-            .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-            .storeOp = VK_ATTACHMENT_STORE_OP_STORE,
-            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = resolve ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL
-                                   : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
-        },
-        {
-            .format = HEMICUBE_DEPTH_FORMAT,
-            .samples = samples,
-            .loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR,
-            .storeOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE,
-            .stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE,
-            .initialLayout = VK_IMAGE_LAYOUT_UNDEFINED,
-            .finalLayout = VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL,
-        },
+    /* MSAA colour is resolved by vkCmdResolveImage (lavapipe's render-pass
+     * resolve ignores the view's base layer); single-sampled colour is
+     * sampled or read by compute directly. */
+    gpu_render_pass_desc desc = {
+        .color_format = rad ? HEMICUBE_RADIOSITY_FORMAT : HEMICUBE_ID_FORMAT,
+        .depth_format = HEMICUBE_DEPTH_FORMAT,
+        .samples = resolve ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT,
+        .color_final_layout = resolve ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL
+                                      : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
+        .view_mask = p->path == HEMICUBE_PATH_MULTIVIEW ? VIEW_MASK : 0,
     };
-    VkAttachmentReference color = {0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-    VkAttachmentReference depth = {1, VK_IMAGE_LAYOUT_DEPTH_STENCIL_ATTACHMENT_OPTIMAL};
-    VkSubpassDescription subpass = {
-        .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
-        .colorAttachmentCount = 1,
-        .pColorAttachments = &color,
-        .pDepthStencilAttachment = &depth,
-    };
-    const VkPipelineStageFlags attach = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
-                                        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
-                                        VK_PIPELINE_STAGE_LATE_FRAGMENT_TESTS_BIT;
-    const VkPipelineStageFlags readers = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
-                                         VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
-                                         VK_PIPELINE_STAGE_TRANSFER_BIT;
-    VkSubpassDependency deps[2] = {
-        /* The previous recording's draws and everyone who read its images
-         * (integrate, reconstruct, resolve, copies) come first. */
-        {
-            .srcSubpass = VK_SUBPASS_EXTERNAL,
-            .dstSubpass = 0,
-            .srcStageMask = attach | readers,
-            .dstStageMask = attach,
-            .srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-            .dstAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                             VK_ACCESS_COLOR_ATTACHMENT_READ_BIT |
-                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
-                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_READ_BIT,
-        },
-        /* The images are read next: sampled, resolved or copied. */
-        {
-            .srcSubpass = 0,
-            .dstSubpass = VK_SUBPASS_EXTERNAL,
-            .srcStageMask = attach,
-            .dstStageMask = readers,
-            .srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT |
-                             VK_ACCESS_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
-            .dstAccessMask = VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT,
-        },
-    };
-    const uint32_t view_mask = VIEW_MASK;
-    VkRenderPassMultiviewCreateInfo multiview = {
-        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_MULTIVIEW_CREATE_INFO,
-        .subpassCount = 1,
-        .pViewMasks = &view_mask,
-        .correlationMaskCount = 1,
-        .pCorrelationMasks = &view_mask,
-    };
-    VkRenderPassCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
-        .pNext = p->path == HEMICUBE_PATH_MULTIVIEW ? &multiview : NULL,
-        .attachmentCount = 2,
-        .pAttachments = att,
-        .subpassCount = 1,
-        .pSubpasses = &subpass,
-        .dependencyCount = 2,
-        .pDependencies = deps,
-    };
-    return VK_CHECK(p->ctx, err,
-                    vkCreateRenderPass(p->ctx->device, &info, NULL, &p->render_pass));
+    return gpu_render_pass_create(p->ctx, &desc, &p->render_pass, err);
 }
 
 static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
