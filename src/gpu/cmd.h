@@ -45,6 +45,11 @@ xrad_status gpu_cmd_run(struct xrad_context *ctx, gpu_cmd *c, xrad_error *err);
  * under the GPU. Accepts a zeroed gpu_cmd; zeroes it. */
 void gpu_cmd_destroy(struct xrad_context *ctx, gpu_cmd *c);
 
+/* Records a global memory barrier: what `src` stages wrote with
+ * `src_access` is visible to `dst` stages' `dst_access`. */
+void gpu_memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
+                        VkPipelineStageFlags dst, VkAccessFlags dst_access);
+
 /* Records a copy of tightly packed texels at `offset` in src into layer
  * `layer` of dst, which must be in TRANSFER_DST_OPTIMAL. */
 void gpu_cmd_copy_buffer_to_image(VkCommandBuffer cmd, const gpu_buffer *src,

@@ -228,31 +228,20 @@ fail:
     return st;
 }
 
-static void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
-                           VkPipelineStageFlags dst, VkAccessFlags dst_access)
-{
-    VkMemoryBarrier b = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-        .srcAccessMask = src_access,
-        .dstAccessMask = dst_access,
-    };
-    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, NULL, 0, NULL);
-}
-
 /* Copies the host's B into gs.B and scatters it into the atlas. */
 static void record_b(xrad_solver *s, gather *g, VkCommandBuffer cmd)
 {
     VkBufferCopy region = {0, 0, (VkDeviceSize)s->gs.element_count * sizeof(vec4)};
     /* Earlier readers of B and the atlas (the last bounce's hemicubes, the
      * display, readbacks) come first. */
-    memory_barrier(cmd,
+    gpu_memory_barrier(cmd,
                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT |
                        VK_PIPELINE_STAGE_TRANSFER_BIT,
                    VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
                    VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                    VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     vkCmdCopyBuffer(cmd, g->upload.buffer, s->gs.B.buffer, 1, &region);
-    memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+    gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
     gpu_timer_begin(s->timer, cmd, "scatter");
     atlas_scatter_record(g->scatter, cmd,
@@ -337,11 +326,11 @@ static xrad_status bounce(xrad_solver *s, gather *g, float scale, xrad_error *er
         }
         if (first >= n) {
             VkBufferCopy region = {0, 0, (VkDeviceSize)n * sizeof(vec4)};
-            memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+            gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                            VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
                            VK_ACCESS_TRANSFER_READ_BIT);
             vkCmdCopyBuffer(c.cmd, g->sums.buffer, g->readback.buffer, 1, &region);
-            memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+            gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
         }
         if ((st = run(s, &c, err)))
@@ -402,7 +391,7 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
         vkCmdFillBuffer(c.cmd, s->gs.Bu.buffer, 0, VK_WHOLE_SIZE, 0);
     }
     /* B, Bu and the atlas are complete for later submissions and the host. */
-    memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+    gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                    VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
                    VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT,
                    VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT |

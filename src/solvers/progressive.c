@@ -136,17 +136,6 @@ fail:
     return st;
 }
 
-static void memory_barrier(VkCommandBuffer cmd, VkPipelineStageFlags src, VkAccessFlags src_access,
-                           VkPipelineStageFlags dst, VkAccessFlags dst_access)
-{
-    VkMemoryBarrier b = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-        .srcAccessMask = src_access,
-        .dstAccessMask = dst_access,
-    };
-    vkCmdPipelineBarrier(cmd, src, dst, 0, 1, &b, 0, NULL, 0, NULL);
-}
-
 /* One shot of Algorithm 4.2. */
 static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
 {
@@ -155,7 +144,7 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
     /* The previous shot's reconstruct wrote B and Bu, which select reads and
      * clears; its hemicube draw and reconstruct read the shooters and the
      * status that select rewrites. */
-    memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | draw_reads,
+    gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | draw_reads,
                    VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                    VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
     gpu_timer_begin(s->timer, cmd, "select");
@@ -164,7 +153,7 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
     /* Shooters and status feed the indirect draw, the vertex shader, the
      * indirect dispatch and the reconstruct shader; the ID image the last
      * reconstruct sampled is about to be drawn over. */
-    memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+    gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                    draw_reads | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
                        VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
                        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT,
@@ -174,7 +163,7 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
                         offsetof(struct select_status, draw_vertex_count));
     gpu_timer_end(s->timer, cmd);
     /* The ID hemicubes are complete before any element looks them up. */
-    memory_barrier(cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+    gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
                    VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                    VK_ACCESS_SHADER_READ_BIT);
     gpu_timer_begin(s->timer, cmd, "reconstruct");
@@ -211,7 +200,7 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
             record_shot(s, p, c.cmd);
         /* B, Bu and the status are complete for the host (the status read
          * below) and for later submissions (gpu_scene_read, the next batch). */
-        memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+        gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                        VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                        VK_ACCESS_HOST_READ_BIT | VK_ACCESS_MEMORY_READ_BIT |
                            VK_ACCESS_MEMORY_WRITE_BIT);
