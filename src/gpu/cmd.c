@@ -222,13 +222,8 @@ xrad_status gpu_readback_image(struct xrad_context *ctx, gpu_image *src, VkImage
     if (layout != VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL)
         gpu_image_transition(c.cmd, src, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, layout);
     /* Make the copy's writes visible to the host read below. */
-    VkMemoryBarrier host = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-        .dstAccessMask = VK_ACCESS_HOST_READ_BIT,
-    };
-    vkCmdPipelineBarrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                         &host, 0, NULL, 0, NULL);
+    gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
     if (!(s = gpu_cmd_run(ctx, &c, err)))
         memcpy(data, staging.alloc.mapped, bytes);
     gpu_cmd_destroy(ctx, &c);
@@ -255,13 +250,9 @@ xrad_status gpu_readback_buffer(struct xrad_context *ctx, gpu_buffer *src, VkDev
         goto fail_cmd;
     VkBufferCopy region = {.srcOffset = offset, .dstOffset = 0, .size = size};
     vkCmdCopyBuffer(c.cmd, src->buffer, staging.buffer, 1, &region);
-    VkMemoryBarrier host = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-        .srcAccessMask = VK_ACCESS_TRANSFER_WRITE_BIT,
-        .dstAccessMask = VK_ACCESS_HOST_READ_BIT,
-    };
-    vkCmdPipelineBarrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1,
-                         &host, 0, NULL, 0, NULL);
+    /* Make the copy's writes visible to the host read below. */
+    gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
     if (!(s = gpu_cmd_run(ctx, &c, err)))
         memcpy(data, staging.alloc.mapped, size);
     gpu_cmd_destroy(ctx, &c);
