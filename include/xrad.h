@@ -149,9 +149,11 @@ xrad_status xrad_devices_list(void (*fn)(void *user, const xrad_device_info *inf
 typedef enum xrad_method {
     XRAD_METHOD_GATHER = 1,      /* thesis 4.2, Algorithm 4.1: a radiosity hemicube per element per bounce */
     XRAD_METHOD_PROGRESSIVE = 2, /* thesis 4.3, Algorithm 4.2 with the improvements of 4.3.3 */
+    XRAD_METHOD_INCREMENTAL = 3, /* thesis 4.4, Algorithm 4.3 with reshooting (4.4.1) */
+    XRAD_METHOD_CROSS = 4,       /* thesis 3.3 and 4.5, Algorithms 4.4 and 4.5 (CRR) */
 } xrad_method;
 
-/* "gather", "progressive"; NULL for an unknown method. */
+/* "gather", "progressive", "incremental", "cross"; NULL for an unknown method. */
 const char *xrad_method_name(xrad_method method);
 /* The inverse; 0 for an unknown name. */
 xrad_method xrad_method_from_name(const char *name);
@@ -174,6 +176,27 @@ typedef struct xrad_solver_desc {
                                 distance^2 exceeds this (thesis 4.3.3); default 0.01 */
     uint32_t max_iterations; /* hard stop: shots (progressive) or bounces (gather); default 100000 */
     uint32_t seed;           /* hemicube rotations (thesis 4.2); default 0 */
+    /* Dynamic methods (incremental, cross): after each redistribution,
+     * progressive iterations continue until the threshold is met or
+     * frame_shots shots were made; default 0 = until the threshold. */
+    uint32_t frame_shots;
+    /* cross: rays per side over a dynamic patch in PROJECTEDRADIOSITY
+     * (thesis 4.5.3 gridSize), 1..16; default 4. */
+    uint32_t cross_grid;
+    /* cross: pixels per face side of the back hemicubes (thesis 4.5.2),
+     * even, 8..256; default 16. */
+    uint32_t back_res;
+    /* cross: samples of the back hemicubes, 1 or 4; default 4 (the most
+     * the hemicube pass offers; thesis 4.5.2: the highest available). */
+    uint32_t back_msaa;
+    /* cross: 1 samples the back hemicubes at the nearest texel instead of
+     * bilinearly across the cube's face edges (thesis 4.5.2); default 0. */
+    int back_nearest;
+    /* cross: 1 renders all four hemicubes of a patch every redistribution
+     * (the thesis); default 0 keeps the last redistribution's new-pose
+     * hemicubes as the next one's old-pose hemicubes, so that exactly what
+     * was inserted is removed (thesis 6.2). */
+    int cross_recompute;
 } xrad_solver_desc;
 
 #define XRAD_MAX_PASSES 16
@@ -193,6 +216,8 @@ typedef struct xrad_solver_stats {
     uint32_t submissions;  /* command buffers submitted */
     uint32_t host_waits;   /* times the host waited for the GPU */
     double residual;       /* final unshot power or bounce change, relative */
+    double redistribute_ms;  /* advance: host wall time of the redistribution alone (incremental,
+                                cross); the rest of wall_ms is progressive iterations */
     const char *hemicube_path; /* "multiview" or "layered" */
     uint32_t pass_count;
     xrad_pass_time passes[XRAD_MAX_PASSES];
@@ -208,6 +233,14 @@ void xrad_solver_destroy(xrad_solver **solver);
 
 /* Restarts from B = E and solves to the desc's threshold. */
 xrad_status xrad_solver_solve(xrad_solver *solver, xrad_error *err);
+
+/* One frame: poses dynamic objects at scene time `time` (s) and updates the
+ * solution in hand to that pose. incremental and cross redistribute from
+ * the previous pose (thesis 4.4, 4.5; the first call after create, without
+ * a solution, solves instead) and continue with progressive iterations
+ * (desc.frame_shots); gather and progressive solve anew at the new pose.
+ * The stats describe this frame. */
+xrad_status xrad_solver_advance(xrad_solver *solver, double time, xrad_error *err);
 
 /* Poses dynamic objects at scene time `time` (s) for the following solves;
  * the solution in hand is kept until the next xrad_solver_solve. */

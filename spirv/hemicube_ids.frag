@@ -6,6 +6,7 @@ layout(location = 0) flat in uint id;
 layout(location = 1) centroid in vec2 uv;
 layout(location = 2) flat in vec4 tile;
 layout(location = 3) flat in float front;
+layout(location = 4) in vec3 rel;
 
 layout(location = 0) out uint out_id;
 

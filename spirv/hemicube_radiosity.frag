@@ -4,6 +4,11 @@
 // element samples, as the display pass shows it; thesis 4.1), times the
 // pass's scale; back sides are black. The coordinate is clamped to the
 // surface's tile so that filtering never reaches a neighbouring tile.
+// Alpha is the distance from the hemicube's origin times pc.depth_scale
+// (1 / scene diameter, so it lies in [0, 1]): the depth the cross method's
+// reprojection reads from its back hemicubes (thesis 4.5.2, REPROJECT); a
+// colour channel rather than the depth attachment, so that the same
+// vkCmdResolveImage resolves it with the colour (0: nothing drawn).
 #extension GL_GOOGLE_include_directive : require
 #include "hemicube_shared.h"
 
@@ -17,6 +22,7 @@ layout(location = 0) flat in uint id; // unused: the ID variant writes it
 layout(location = 1) centroid in vec2 uv;
 layout(location = 2) flat in vec4 tile;
 layout(location = 3) flat in float front;
+layout(location = 4) in vec3 rel;
 
 layout(location = 0) out vec4 color;
 
@@ -26,9 +32,9 @@ layout(location = 0) out vec4 color;
 // truncates, which biases every hemicube low by half an fp16 step on
 // average and, through 1 / (1 - rho), the solution by far more. Exact for
 // the fp16 normal range; B x scale <= 1 keeps clear of overflow.
-vec3 round_to_half(vec3 v)
+vec4 round_to_half(vec4 v)
 {
-    uvec3 b = floatBitsToUint(v);
+    uvec4 b = floatBitsToUint(v);
     b += 0xfffu + ((b >> 13u) & 1u);
     return uintBitsToFloat(b & ~0x1fffu);
 }
@@ -52,5 +58,5 @@ void main()
     } else {
         b = texture(atlas, p).rgb;
     }
-    color = vec4(round_to_half(front * pc.scale * b), 1.0);
+    color = round_to_half(vec4(front * pc.scale * b, length(rel) * pc.depth_scale));
 }

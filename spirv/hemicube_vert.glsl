@@ -23,6 +23,7 @@ layout(location = 0) flat out uint id;
 layout(location = 1) centroid out vec2 uv;
 layout(location = 2) flat out vec4 tile;
 layout(location = 3) flat out float front;
+layout(location = 4) out vec3 rel; // from the origin, m: the radiosity variant's distance
 
 void main()
 {
@@ -56,4 +57,5 @@ void main()
     tile = in_tile;
     // Surfaces emit and reflect on their front side only (scene.h).
     front = dot(in_normal.xyz, o - in_pos) > 0.0 ? 1.0 : 0.0;
+    rel = d;
 }

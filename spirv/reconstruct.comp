@@ -32,6 +32,7 @@
 #include "select_shared.h"
 #include "reconstruct_shared.h"
 #include "hemicube.glsl"
+#include "shooting.glsl"
 
 layout(local_size_x = RECONSTRUCT_GROUP) in;
 
@@ -46,75 +47,6 @@ layout(std430, binding = RECONSTRUCT_BINDING_SHOOTERS) readonly buffer Shooters 
 layout(std430, binding = RECONSTRUCT_BINDING_STATUS) readonly buffer Status { select_status status; };
 layout(binding = RECONSTRUCT_BINDING_HEMICUBES) uniform utexture2DArray hemicubes;
 
-const float PI = 3.14159265358979323846;
-
-bool visible(vec3 local, uint hemicube, uint id)
-{
-    uvec2 px;
-    int face = hemicube_lookup(local, pc.hemicube_res, px);
-    int layer = int(hemicube) * HEMICUBE_FACES + face;
-    if (texelFetch(hemicubes, ivec3(px, layer), 0).r == id)
-        return true;
-    if (pc.neighbours == 0u)
-        return false;
-    int last = int(pc.hemicube_res) - 1;
-    for (int dy = -1; dy <= 1; dy++) {
-        for (int dx = -1; dx <= 1; dx++) {
-            ivec2 q = clamp(ivec2(px) + ivec2(dx, dy), ivec2(0), ivec2(last));
-            if (texelFetch(hemicubes, ivec3(q, layer), 0).r == id)
-                return true;
-        }
-    }
-    return false;
-}
-
-vec3 bilinear(gpu_surface sf, float s, float t)
-{
-    return mix(mix(sf.corner[0].xyz, sf.corner[1].xyz, s), mix(sf.corner[3].xyz, sf.corner[2].xyz, s), t);
-}
-
-// As in select.comp: the parameter interval of samples [i0, i1] of n.
-vec2 param_range(uint i0, uint i1, uint n)
-{
-    float h = 1.0 / float(n - 1u);
-    return vec2(max(0.0, (float(i0) - 0.5) * h), min(1.0, (float(i1) + 0.5) * h));
-}
-
-// Form factor from the point x (unit normal n) to the convex polygon q[0..3]
-// clipped to the half-space in front of x (Lambert: (1/2pi) sum_k gamma_k
-// n . (R_k x R_k+1) / |R_k x R_k+1|, ground-truth.md).
-float point_to_quad(vec3 x, vec3 n, vec3 q[4])
-{
-    vec3 r[5];
-    int count = 0;
-    for (int k = 0; k < 4; k++) {
-        vec3 a = q[k] - x, b = q[(k + 1) % 4] - x;
-        float da = dot(a, n), db = dot(b, n);
-        if (da > 0.0 && count < 5)
-            r[count++] = a;
-        if ((da > 0.0) != (db > 0.0) && count < 5)
-            r[count++] = mix(a, b, da / (da - db));
-    }
-    float sum = 0.0;
-    for (int k = 0; k < count; k++) {
-        vec3 c = cross(r[k], r[(k + 1) % count]);
-        float cl = length(c);
-        if (cl > 0.0)
-            sum += atan(cl, dot(r[k], r[(k + 1) % count])) * dot(n, c) / cl;
-    }
-    return abs(sum) / (2.0 * PI);
-}
-
-// The receiver point of element e: the centroid of its cell.
-vec3 cell_centroid(uint e, uint se)
-{
-    gpu_surface sf = surfaces[se];
-    uint k = e - sf.first_element;
-    uint i = k % sf.nu, j = k / sf.nu;
-    vec2 rs = param_range(i, i, sf.nu), rt = param_range(j, j, sf.nv);
-    return bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y));
-}
-
 void main()
 {
     uint e = gl_GlobalInvocationID.x;
@@ -123,7 +55,9 @@ void main()
     uint count = status.shooter_count;
     vec3 ne = elements[e].normal.xyz;
     uint se = elements[e].surface;
-    vec3 x = cell_centroid(e, se);
+    gpu_surface sr = surfaces[se];
+    uint ke = e - sr.first_element;
+    vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
     vec3 gathered = vec3(0.0);
     for (uint k = 0u; k < count; k++) {
         gpu_shooter sh = shooters[k];
@@ -136,20 +70,13 @@ void main()
             continue;
         vec3 t = sh.tangent.xyz;
         vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
-        if (!visible(local, sh.hemicube, se + 1u))
+        if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local,
+                              sh.hemicube, se + 1u))
             continue;
-        float r2 = dot(d, d);
         float area = sh.pos_area.w;
-        float ff; // form factor from the receiver point to the shooter patch
-        if (area > pc.subdivide_ratio * r2) {
-            gpu_surface sf = surfaces[sh.surface];
-            vec2 rs = param_range(sh.i0, sh.i1, sf.nu), rt = param_range(sh.j0, sh.j1, sf.nv);
-            vec3 q[4] = vec3[4](bilinear(sf, rs.x, rt.x), bilinear(sf, rs.y, rt.x),
-                                bilinear(sf, rs.y, rt.y), bilinear(sf, rs.x, rt.y));
-            ff = point_to_quad(x, ne, q);
-        } else {
-            ff = area * cs * ce / (r2 * (PI * r2 + area));
-        }
+        float ff = shooting_near(d, area, pc.subdivide_ratio)
+                       ? shooting_quad(x, ne, surfaces[sh.surface], sh)
+                       : shooting_disk(d, cs, ce, area);
         gathered += sh.radiosity.rgb * ff;
     }
     if (count == 0u || all(equal(gathered, vec3(0.0))))

@@ -12,20 +12,25 @@
 static void help(void)
 {
     printf("usage: xrad bench SCENE.json... [--methods LIST] [--json FILE] [options]\n\n"
-           "Solves each scene with each method and prints a table: frame time (median of\n"
-           "--repeat solves; the whole solve for methods that restart), GPU time per pass\n"
-           "(timestamp queries), hemicubes, shots, host waits, and NRMSE of the camera image\n"
-           "against a reference image.\n\n"
+           "Per scene and method (thesis tables 5.1 and 5.2): converges at --time, then\n"
+           "times --repeat frames of the scene's animation, 1/--fps apart. A frame is a\n"
+           "whole solve for gather and progressive, a redistribution and its progressive\n"
+           "iterations for incremental and cross. Prints the median frame time, GPU time per\n"
+           "pass (timestamp queries), hemicubes, shots, host waits per frame, and NRMSE of\n"
+           "the last frame's camera image against a reference image at that pose; then the\n"
+           "frame-time ratios progressive/cross and incremental/cross.\n\n"
            "  --methods LIST     comma-separated: %s [gather,progressive]\n"
-           "  --json FILE        also write the rows as JSON\n"
-           "  --repeat N         solves per scene and method; the median is reported [3]\n"
+           "  --json FILE        also write the rows and ratios as JSON\n"
+           "  --repeat N         timed frames per scene and method; the median is reported [3]\n"
+           "  --time T, --fps F  start pose (s) and frame rate of scene time [0, 30]\n"
            "  --width N, --height N   image size for NRMSE [the scene camera's]\n"
            "  --reference-rays N CPU reference visibility rays [32]\n"
            "  --cache DIR        where reference images are kept [out/bench-cache]\n"
            "  --max-reference-elements N  above this element count the reference is a\n"
            "                     high-quality GPU gather (hemicube 128, 4x MSAA, threshold\n"
            "                     1e-5) instead of the CPU solver [12000]\n"
-           "  --hemicube-res N, --threshold T, --batch N   GPU settings (see xrad render)\n"
+           "  --hemicube-res N, --threshold T, --batch N, --frame-shots N, --cross-grid N,\n"
+           "  --back-res N, --cross-recompute   GPU settings (see xrad render)\n"
            "  --device NAME      Vulkan device\n\n"
            "Reference images are cached in the cache directory under a name that hashes the\n"
            "scene file, the reference settings and the image size.\n",
@@ -37,6 +42,7 @@ typedef struct bench_opts {
     int scene_count;
     const char *methods, *json, *cache, *device;
     uint32_t repeat, width, height, ref_rays, max_ref_elements;
+    double time, fps;
     method_settings m;
 } bench_opts;
 
@@ -68,10 +74,11 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* The reference image for a scene: from the cache, or made and cached. */
+/* The reference image for a scene at scene time t: from the cache, or made
+ * and cached. */
 static xrad_status reference_image(xrad_context *ctx, const char *path, const xrad_scene *scene,
-                                   const bench_opts *o, float **img, uint32_t *w, uint32_t *h,
-                                   char *kind, size_t kind_n, xrad_error *err)
+                                   const bench_opts *o, double t, float **img, uint32_t *w,
+                                   uint32_t *h, char *kind, size_t kind_n, xrad_error *err)
 {
     xrad_scene_info info;
     xrad_scene_get_info(scene, &info);
@@ -86,6 +93,9 @@ static xrad_status reference_image(xrad_context *ctx, const char *path, const xr
     hash = fnv1a(hash, settings, strlen(settings));
     uint32_t size[2] = {o->width, o->height};
     hash = fnv1a(hash, size, sizeof(size));
+    /* Time 0 hashes as before poses existed here, so old caches stay valid. */
+    if (t != 0)
+        hash = fnv1a(hash, &t, sizeof(t));
     char name[256], cached[1024];
     snprintf(cached, sizeof(cached), "%s/%s-%016llx.exr", o->cache,
              cli_basename_noext(path, name, sizeof(name)), (unsigned long long)hash);
@@ -105,9 +115,11 @@ static xrad_status reference_image(xrad_context *ctx, const char *path, const xr
     m.solver.hemicube_res = 128;
     m.solver.msaa = 4;
     m.solver.threshold = 1e-5;
+    m.solver.time = t;
+    m.reference.time = t;
     method_result r;
     st = method_run(ctx, scene, cpu ? "reference" : "gather", &m, &atlas, &r, err);
-    xrad_view_desc view = {.width = o->width, .height = o->height};
+    xrad_view_desc view = {.width = o->width, .height = o->height, .time = t};
     if (!st)
         st = xrad_render_view(ctx, scene, &atlas, &view, img, w, h, err);
     xrad_atlas_destroy(&atlas);
@@ -117,7 +129,8 @@ static xrad_status reference_image(xrad_context *ctx, const char *path, const xr
         snprintf(meta, sizeof(meta), "%s.txt", cached);
         FILE *f = fopen(meta, "w");
         if (f) {
-            fprintf(f, "scene %s\nsettings %s\nsize %ux%u\n", path, settings, *w, *h);
+            fprintf(f, "scene %s\nsettings %s\nsize %ux%u\ntime %.17g\n", path, settings, *w,
+                    *h, t);
             fclose(f);
         }
     }
@@ -133,6 +146,7 @@ static int parse(int argc, char **argv, bench_opts *o)
     o->repeat = 3;
     o->ref_rays = 32;
     o->max_ref_elements = 12000;
+    o->fps = 30;
     const char *opt;
     while ((opt = cli_next(&a)) && !a.failed) {
         if (cli_is_help(opt)) {
@@ -160,6 +174,18 @@ static int parse(int argc, char **argv, bench_opts *o)
             cli_double(&a, 1e-12, 0.5, &o->m.solver.threshold);
         } else if (!strcmp(opt, "batch")) {
             cli_uint(&a, 1, 4096, &o->m.solver.batch);
+        } else if (!strcmp(opt, "time")) {
+            cli_double(&a, -1e6, 1e6, &o->time);
+        } else if (!strcmp(opt, "fps")) {
+            cli_double(&a, 1e-3, 1e6, &o->fps);
+        } else if (!strcmp(opt, "frame-shots")) {
+            cli_uint(&a, 0, 10000000, &o->m.solver.frame_shots);
+        } else if (!strcmp(opt, "cross-grid")) {
+            cli_uint(&a, 1, 16, &o->m.solver.cross_grid);
+        } else if (!strcmp(opt, "back-res")) {
+            cli_uint(&a, 8, 256, &o->m.solver.back_res);
+        } else if (!strcmp(opt, "cross-recompute")) {
+            o->m.solver.cross_recompute = 1;
         } else if (!strcmp(opt, "device")) {
             o->device = cli_value(&a);
         } else {
@@ -181,12 +207,14 @@ static int parse(int argc, char **argv, bench_opts *o)
     return 0;
 }
 
-/* One scene x method: `repeat` solves, the last one's image for NRMSE. */
+/* One scene x method: converge at o->time, then `repeat` timed frames; the
+ * last one's image for NRMSE. Returns the median frame time in *frame_ms. */
 static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *scene,
                              const char *method, const bench_opts *o, const float *ref,
                              uint32_t rw, uint32_t rh, const char *ref_kind, cJSON *rows,
-                             xrad_error *err)
+                             double *frame_ms, xrad_error *err)
 {
+    method_run_state run = {0};
     xrad_atlas atlas = {0};
     xrad_status st = xrad_atlas_create(scene, &atlas, err);
     if (st)
@@ -199,14 +227,21 @@ static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_sce
         st = cli_fail(err, XRAD_ERROR_SYSTEM, "bench: out of memory");
         goto done;
     }
+    method_settings m = o->m;
+    m.solver.time = m.reference.time = o->time;
+    if ((st = method_open(ctx, scene, method, &m, &run, err)) ||
+        (st = method_frame(&run, o->time, &atlas, &r, err)))
+        goto done;
+    double t = o->time;
     for (uint32_t k = 0; k < o->repeat && !st; k++) {
-        st = method_run(ctx, scene, method, &o->m, &atlas, &r, err);
+        t = o->time + (k + 1) / o->fps;
+        st = method_frame(&run, t, &atlas, &r, err);
         wall[k] = r.wall_ms;
         gpu[k] = r.gpu ? r.stats.gpu_ms : r.wall_ms;
     }
     if (st)
         goto done;
-    xrad_view_desc view = {.width = rw, .height = rh};
+    xrad_view_desc view = {.width = rw, .height = rh, .time = t};
     if ((st = xrad_render_view(ctx, scene, &atlas, &view, &img, &w, &h, err)))
         goto done;
     qsort(wall, o->repeat, sizeof(double), cmp_double);
@@ -217,6 +252,7 @@ static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_sce
     cJSON_AddStringToObject(row, "scene", path);
     cJSON_AddStringToObject(row, "method", method);
     cJSON_AddNumberToObject(row, "frame_ms", wall[o->repeat / 2]);
+    cJSON_AddNumberToObject(row, "redistribute_ms", r.gpu ? r.stats.redistribute_ms : 0);
     cJSON_AddNumberToObject(row, "gpu_ms", gpu[o->repeat / 2]);
     cJSON *passes = cJSON_AddObjectToObject(row, "passes");
     for (uint32_t i = 0; r.gpu && i < r.stats.pass_count; i++)
@@ -232,7 +268,9 @@ static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_sce
                             r.gpu && r.stats.hemicube_path ? r.stats.hemicube_path : "-");
     cJSON_AddStringToObject(row, "device", xrad_context_device_name(ctx));
     cJSON_AddNumberToObject(row, "repeat", o->repeat);
+    cJSON_AddNumberToObject(row, "time", t);
     cJSON_AddItemToArray(rows, row);
+    *frame_ms = wall[o->repeat / 2];
 
     printf("%-28s %-12s %12.1f %12.1f %10u %8u %7u %10.5f\n", path, method, wall[o->repeat / 2],
            gpu[o->repeat / 2], r.gpu ? r.stats.hemicubes : 0, r.gpu ? r.stats.shots : 0,
@@ -241,6 +279,7 @@ static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_sce
         printf("%-28s   %-20s %10.2f ms\n", "", r.stats.passes[i].name, r.stats.passes[i].ms);
     fflush(stdout);
 done:
+    method_close(&run);
     free(img);
     free(wall);
     free(gpu);
@@ -258,7 +297,9 @@ int cmd_bench(int argc, char **argv)
     xrad_context *ctx = NULL;
     if (xrad_context_create(&(xrad_context_desc){.device = o.device}, &ctx, &err))
         return cli_report(&err);
-    cJSON *rows = cJSON_CreateArray();
+    cJSON *out = cJSON_CreateObject();
+    cJSON *rows = cJSON_AddArrayToObject(out, "rows");
+    cJSON *ratios = cJSON_AddArrayToObject(out, "ratios");
     printf("device: %s\n", xrad_context_device_name(ctx));
     printf("%-28s %-12s %12s %12s %10s %8s %7s %10s\n", "scene", "method", "frame_ms",
            "gpu_ms", "hemicubes", "shots", "waits", "nrmse");
@@ -271,17 +312,38 @@ int cmd_bench(int argc, char **argv)
         float *ref = NULL;
         uint32_t rw = 0, rh = 0;
         char kind[32];
-        st = reference_image(ctx, path, scene, &o, &ref, &rw, &rh, kind, sizeof(kind), &err);
+        st = reference_image(ctx, path, scene, &o, o.time + o.repeat / o.fps, &ref, &rw, &rh,
+                             kind, sizeof(kind), &err);
         char list[512];
         snprintf(list, sizeof(list), "%s", o.methods);
+        double ms[5] = {0}; /* by xrad_method; 0 unused */
         for (char *save = NULL, *m = strtok_r(list, ",", &save); m && !st;
-             m = strtok_r(NULL, ",", &save))
-            st = bench_one(ctx, path, scene, m, &o, ref, rw, rh, kind, rows, &err);
+             m = strtok_r(NULL, ",", &save)) {
+            double f = 0;
+            st = bench_one(ctx, path, scene, m, &o, ref, rw, rh, kind, rows, &f, &err);
+            if (xrad_method_from_name(m) < 5)
+                ms[xrad_method_from_name(m)] = f;
+        }
         free(ref);
+        if (!st && ms[XRAD_METHOD_CROSS] > 0) {
+            cJSON *ratio = cJSON_CreateObject();
+            cJSON_AddStringToObject(ratio, "scene", path);
+            if (ms[XRAD_METHOD_PROGRESSIVE] > 0) {
+                double q = ms[XRAD_METHOD_PROGRESSIVE] / ms[XRAD_METHOD_CROSS];
+                printf("%-28s progressive/cross frame time %.2fx\n", path, q);
+                cJSON_AddNumberToObject(ratio, "progressive_over_cross", q);
+            }
+            if (ms[XRAD_METHOD_INCREMENTAL] > 0) {
+                double q = ms[XRAD_METHOD_INCREMENTAL] / ms[XRAD_METHOD_CROSS];
+                printf("%-28s incremental/cross frame time %.2fx\n", path, q);
+                cJSON_AddNumberToObject(ratio, "incremental_over_cross", q);
+            }
+            cJSON_AddItemToArray(ratios, ratio);
+        }
         xrad_scene_destroy(&scene);
     }
     if (!st && o.json) {
-        char *text = cJSON_Print(rows);
+        char *text = cJSON_Print(out);
         FILE *f = text && cli_make_parent_dirs(o.json) ? fopen(o.json, "w") : NULL;
         if (f) {
             fputs(text, f);
@@ -293,7 +355,7 @@ int cmd_bench(int argc, char **argv)
         }
         free(text);
     }
-    cJSON_Delete(rows);
+    cJSON_Delete(out);
     xrad_context_destroy(&ctx);
     return st ? cli_report(&err) : 0;
 }

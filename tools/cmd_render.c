@@ -14,7 +14,9 @@ static void help(void)
            "  --method NAME     reference: CPU ground truth (analytic form factors,\n"
            "                    ray-cast visibility, Gauss-Seidel);\n"
            "                    gather: GPU radiosity hemicube per element per bounce (thesis 4.2);\n"
-           "                    progressive: GPU progressive refinement (thesis 4.3)\n"
+           "                    progressive: GPU progressive refinement (thesis 4.3);\n"
+           "                    incremental: GPU incremental radiosity (thesis 4.4);\n"
+           "                    cross: GPU cross redistribution radiosity (thesis 4.5)\n"
            "                    [default: reference]\n"
            "  --out FILE        output image; .png (tone-mapped sRGB) or .exr (linear)\n"
            "  --png FILE        write a PNG here (may be given with --exr)\n"
@@ -39,6 +41,14 @@ static void help(void)
            "  --batch N         progressive: shots per submission (one host wait each) [32]\n"
            "  --max-patches N   progressive: shooting patches per surface side [8]\n"
            "  --seed N          GPU: hemicube rotation seed [0]\n"
+           "  --frame-shots N   incremental, cross: progressive shots after each\n"
+           "                    redistribution [0 = until --threshold]\n"
+           "  --cross-grid N    cross: PROJECTEDRADIOSITY rays per patch side, 1..16 [4]\n"
+           "  --back-res N      cross: back hemicube face resolution, even [16]\n"
+           "  --back-msaa N     cross: back hemicube samples, 1 or 4 [4]\n"
+           "  --back-nearest    cross: nearest back hemicube samples (default bilinear)\n"
+           "  --cross-recompute cross: render all four hemicubes per patch each frame\n"
+           "                    (thesis) instead of reusing the last frame's\n"
            "  --device NAME     Vulkan device (substring; see xrad devices)\n"
            "  --quiet           no progress on stderr\n\n"
            "The EXR holds the radiosity B (W/m^2) of the surface seen in each pixel.\n");
@@ -124,6 +134,18 @@ static int parse(int argc, char **argv, render_opts *o)
             cli_uint(&a, 1, 64, &o->m.solver.max_patches);
         } else if (!strcmp(opt, "seed")) {
             cli_uint(&a, 0, UINT32_MAX, &o->m.solver.seed);
+        } else if (!strcmp(opt, "frame-shots")) {
+            cli_uint(&a, 0, 10000000, &o->m.solver.frame_shots);
+        } else if (!strcmp(opt, "cross-grid")) {
+            cli_uint(&a, 1, 16, &o->m.solver.cross_grid);
+        } else if (!strcmp(opt, "back-res")) {
+            cli_uint(&a, 8, 256, &o->m.solver.back_res);
+        } else if (!strcmp(opt, "back-msaa")) {
+            cli_uint(&a, 1, 4, &o->m.solver.back_msaa);
+        } else if (!strcmp(opt, "back-nearest")) {
+            o->m.solver.back_nearest = 1;
+        } else if (!strcmp(opt, "cross-recompute")) {
+            o->m.solver.cross_recompute = 1;
         } else if (!strcmp(opt, "device")) {
             o->device = cli_value(&a);
         } else if (!strcmp(opt, "quiet")) {
@@ -164,6 +186,7 @@ int cmd_render(int argc, char **argv)
     xrad_context *ctx = NULL;
     xrad_atlas atlas = {0};
     float *image = NULL;
+    method_run_state run = {0};
     double t0 = cli_now();
     if (xrad_scene_load(o.scene, &scene, &err))
         return cli_report(&err);
@@ -183,18 +206,21 @@ int cmd_render(int argc, char **argv)
                 xrad_context_device_name(ctx));
         o.m.reference.progress = progress;
     }
-    /* Frame 0 at --time, then --frames more, 1/--fps apart; the methods of
-     * this build restart each frame (thesis 5.2: gather and progressive
-     * solve every frame anew). The last frame is the image written. */
+    /* Frame 0 at --time, converged; then --frames more, 1/--fps apart:
+     * incremental and cross redistribute from the previous frame (thesis
+     * 4.4, 4.5), gather, progressive and the reference solve every frame
+     * anew (thesis 5.2). The last frame is the image written. */
     method_result res;
     uint32_t w = 0, h = 0;
     double t_solve = 0, t_display = 0, exposure = o.exposure, frame_ms = 0;
+    o.m.reference.time = o.time;
+    o.m.solver.time = o.time;
+    if (method_open(ctx, scene, o.method, &o.m, &run, &err))
+        goto fail;
     for (uint32_t f = 0; f <= o.frames; f++) {
         double t = o.time + (double)f / o.fps;
         double tf0 = cli_now();
-        o.m.reference.time = t;
-        o.m.solver.time = t;
-        if (method_run(ctx, scene, o.method, &o.m, &atlas, &res, &err))
+        if (method_frame(&run, t, &atlas, &res, &err))
             goto fail;
         t_solve = cli_now();
         if (f > 0)
@@ -256,6 +282,7 @@ int cmd_render(int argc, char **argv)
 fail:
     rc = cli_report(&err);
 done:
+    method_close(&run);
     free(image);
     xrad_atlas_destroy(&atlas);
     xrad_context_destroy(&ctx);

@@ -5,38 +5,71 @@
 
 #include "cli.h"
 
-const char *method_list(void) { return "reference, gather, progressive"; }
+const char *method_list(void) { return "reference, gather, progressive, incremental, cross"; }
 
 int method_known(const char *name)
 {
     return !strcmp(name, "reference") || xrad_method_from_name(name) != 0;
 }
 
+xrad_status method_open(xrad_context *ctx, const xrad_scene *scene, const char *name,
+                        const method_settings *settings, method_run_state *run,
+                        xrad_error *err)
+{
+    memset(run, 0, sizeof(*run));
+    run->ctx = ctx;
+    run->scene = scene;
+    run->name = name;
+    run->settings = *settings;
+    if (!strcmp(name, "reference"))
+        return XRAD_OK;
+    xrad_solver_desc desc = settings->solver;
+    desc.method = xrad_method_from_name(name);
+    return xrad_solver_create(ctx, scene, &desc, &run->solver, err);
+}
+
+xrad_status method_frame(method_run_state *run, double t, xrad_atlas *atlas,
+                         method_result *result, xrad_error *err)
+{
+    memset(result, 0, sizeof(*result));
+    double t0 = cli_now();
+    xrad_status st;
+    if (!run->solver) {
+        xrad_reference_desc d = run->settings.reference;
+        d.time = t;
+        st = xrad_reference_solve(run->scene, &d, atlas, &result->ref, err);
+        result->wall_ms = (cli_now() - t0) * 1e3;
+    } else {
+        /* The first frame solves (there is no solution to advance yet). */
+        st = xrad_solver_advance(run->solver, t, err);
+        result->wall_ms = (cli_now() - t0) * 1e3;
+        if (!st)
+            st = xrad_solver_read(run->solver, atlas, err);
+        result->gpu = 1;
+        xrad_solver_get_stats(run->solver, &result->stats);
+    }
+    if (!st)
+        run->frames++;
+    return st;
+}
+
+void method_close(method_run_state *run)
+{
+    xrad_solver_destroy(&run->solver);
+    memset(run, 0, sizeof(*run));
+}
+
 xrad_status method_run(xrad_context *ctx, const xrad_scene *scene, const char *name,
                        const method_settings *settings, xrad_atlas *atlas,
                        method_result *result, xrad_error *err)
 {
+    method_run_state run;
     memset(result, 0, sizeof(*result));
-    double t0 = cli_now();
-    if (!strcmp(name, "reference")) {
-        xrad_status st = xrad_reference_solve(scene, &settings->reference, atlas, &result->ref, err);
-        result->wall_ms = (cli_now() - t0) * 1e3;
-        return st;
-    }
-    xrad_solver_desc desc = settings->solver;
-    desc.method = xrad_method_from_name(name);
-    xrad_solver *solver = NULL;
-    xrad_status st = xrad_solver_create(ctx, scene, &desc, &solver, err);
-    if (st)
-        return st;
-    t0 = cli_now();
-    st = xrad_solver_solve(solver, err);
-    result->wall_ms = (cli_now() - t0) * 1e3;
+    xrad_status st = method_open(ctx, scene, name, settings, &run, err);
     if (!st)
-        st = xrad_solver_read(solver, atlas, err);
-    result->gpu = 1;
-    xrad_solver_get_stats(solver, &result->stats);
-    xrad_solver_destroy(&solver);
+        st = method_frame(&run, run.solver ? settings->solver.time : settings->reference.time,
+                          atlas, result, err);
+    method_close(&run);
     return st;
 }
 
@@ -54,4 +87,7 @@ void method_print_passes(const method_result *r)
     printf("hemicubes %u, shots %u, iterations %u, submissions %u, host waits %u, "
            "residual %.3g\n",
            s->hemicubes, s->shots, s->iterations, s->submissions, s->host_waits, s->residual);
+    if (s->redistribute_ms > 0)
+        printf("redistribution %.1f ms of %.1f ms (host wall time)\n", s->redistribute_ms,
+               s->wall_ms);
 }

@@ -1,5 +1,6 @@
 /* Running one radiosity method to a solution atlas: the CPU reference or a
- * GPU solver, with what each measured. Shared by render and bench. */
+ * GPU solver, with what each measured, one frame or a sequence of frames.
+ * Shared by render and bench. */
 #ifndef XRAD_TOOLS_METHOD_H
 #define XRAD_TOOLS_METHOD_H
 
@@ -11,18 +12,39 @@ typedef struct method_settings {
 } method_settings;
 
 typedef struct method_result {
-    double wall_ms;             /* host time of the solve alone */
+    double wall_ms;             /* host time of the solve (or frame) alone */
     int gpu;                    /* 1 for a GPU solver: `stats` is filled */
     xrad_solver_stats stats;
     xrad_reference_stats ref;
 } method_result;
 
-/* "reference, gather, progressive" */
+/* "reference, gather, progressive, incremental, cross" */
 const char *method_list(void);
 /* 1 if `name` is a method this build has. */
 int method_known(const char *name);
 
-/* Solves `scene` with the named method into `atlas` (xrad_atlas_create'd). */
+/* A method kept across frames: the GPU solver stays alive, so that dynamic
+ * methods redistribute from frame to frame. */
+typedef struct method_run_state {
+    xrad_context *ctx;
+    const xrad_scene *scene;
+    const char *name;
+    method_settings settings;
+    xrad_solver *solver; /* NULL for the reference */
+    int frames;          /* frames done */
+} method_run_state;
+
+xrad_status method_open(xrad_context *ctx, const xrad_scene *scene, const char *name,
+                        const method_settings *settings, method_run_state *run,
+                        xrad_error *err);
+/* The solution at scene time t into `atlas` (xrad_atlas_create'd): the
+ * first frame solves; later ones advance (xrad_solver_advance: dynamic
+ * methods redistribute, the others solve anew; the reference solves anew). */
+xrad_status method_frame(method_run_state *run, double t, xrad_atlas *atlas,
+                         method_result *result, xrad_error *err);
+void method_close(method_run_state *run);
+
+/* One solve at settings->solver.time / reference.time: open, frame, close. */
 xrad_status method_run(xrad_context *ctx, const xrad_scene *scene, const char *name,
                        const method_settings *settings, xrad_atlas *atlas,
                        method_result *result, xrad_error *err);

@@ -461,6 +461,7 @@ void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw 
         .near = p->near,
         .hair = p->hair,
         .scale = d->scale > 0 ? d->scale : 1.0f,
+        .depth_scale = (float)(1.0 / p->desc.diameter),
     };
     VkViewport viewport = {0, 0, (float)p->desc.res, (float)p->desc.res, 0, 1};
     VkRect2D scissor = {.extent = {p->desc.res, p->desc.res}};

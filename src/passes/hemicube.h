@@ -22,6 +22,9 @@
  *    samples, resolved with vkCmdResolveImage (lavapipe's render-pass
  *    resolve ignores the view's base layer), + depth. The scale keeps large
  *    emissions inside fp16's range; the integrate pass divides it out.
+ *    Alpha holds the distance from the hemicube's origin / diameter (0
+ *    where nothing was drawn), resolved with the colour: the depth the
+ *    cross method's reprojection samples (thesis 4.5.2).
  *
  * Two paths draw the same thing:
  *  - multiview (VK_KHR_multiview): one render pass instance per hemicube,

@@ -402,4 +402,4 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
     return XRAD_OK;
 }
 
-const solver_ops gather_ops = {create, solve, destroy};
+const solver_ops gather_ops = {create, solve, destroy, NULL};

@@ -42,6 +42,12 @@ static xrad_status fill_geometry(const xrad_scene *scene, double time, geometry 
                          scene->path);
     }
     vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    /* Vertices of static surfaces first, so that a draw of the first
+     * static_vertex_count vertices shows the static set C alone (the cross
+     * method's back hemicubes, thesis 4.5.2). */
+    uint32_t static_slot = 0, dynamic_slot = 0;
+    for (uint32_t s = 0; s < scene->surface_count; s++)
+        dynamic_slot += scene->objects[scene->surfaces[s].object].dynamic ? 0 : 1;
     double inv_w = 1.0 / (scene->atlas_width ? scene->atlas_width : 1);
     double inv_h = 1.0 / (scene->atlas_height ? scene->atlas_height : 1);
     for (uint32_t s = 0; s < scene->surface_count; s++) {
@@ -85,9 +91,10 @@ static xrad_status fill_geometry(const xrad_scene *scene, double time, geometry 
         float tile[4] = {(float)((e0->texel_x + 0.5) * inv_w), (float)((e0->texel_y + 0.5) * inv_h),
                          (float)((e1->texel_x + 0.5) * inv_w), (float)((e1->texel_y + 0.5) * inv_h)};
         static const int tri[6] = {0, 1, 2, 0, 2, 3};
+        uint32_t slot = gsf->dynamic ? dynamic_slot++ : static_slot++;
         for (int k = 0; k < 6; k++) {
             const element *el = &scene->elements[sf->first_element + ci[tri[k]]];
-            gpu_scene_vertex *v = &g->vertices[6 * (size_t)s + k];
+            gpu_scene_vertex *v = &g->vertices[6 * (size_t)slot + k];
             v->pos[0] = (float)c[tri[k]].x;
             v->pos[1] = (float)c[tri[k]].y;
             v->pos[2] = (float)c[tri[k]].z;
@@ -192,6 +199,8 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
     out->element_count = scene->element_count;
     out->material_count = scene->material_count;
     out->vertex_count = 6 * scene->surface_count;
+    for (uint32_t k = 0; k < scene->surface_count; k++)
+        out->static_vertex_count += scene->objects[scene->surfaces[k].object].dynamic ? 0 : 6;
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_SRC_BIT;

@@ -36,7 +36,8 @@ typedef struct gpu_scene {
     const xrad_scene *scene;
     double time; /* pose the buffers hold */
     uint32_t surface_count, element_count, material_count;
-    uint32_t vertex_count;     /* 6 per surface, surface-major */
+    uint32_t vertex_count;     /* 6 per surface: static surfaces first, then dynamic ones */
+    uint32_t static_vertex_count; /* those of static surfaces (set C) */
     gpu_buffer surfaces;       /* struct gpu_surface[surface_count] */
     gpu_buffer elements;       /* struct gpu_element[element_count] */
     gpu_buffer materials;      /* struct gpu_material[material_count] */

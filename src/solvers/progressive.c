@@ -28,12 +28,13 @@
 #include "passes/select.h"
 #include "radiosity.h"
 #include "select_shared.h"
+#include "solvers/progressive.h"
 #include "solvers/solver.h"
 
 /* Hemicube image memory a solver may hold, all shooters of a shot together. */
 #define MAX_HEMICUBE_BYTES (256ull << 20)
 
-typedef struct progressive {
+struct progressive {
     select_pass *select;
     hemicube_pass *hemicube;
     reconstruct_pass *reconstruct;
@@ -42,7 +43,7 @@ typedef struct progressive {
     uint32_t max_shooters;
     select_params select_params;
     reconstruct_params reconstruct_params;
-} progressive;
+};
 
 /* Shooters one shot may need: the largest kx x ky of the patch rule over
  * the scene's surfaces, within the image-array and memory limits. */
@@ -64,9 +65,9 @@ static uint32_t shooter_capacity(const xrad_solver *s)
     return need ? need : 1;
 }
 
-static void destroy(xrad_solver *s)
+void progressive_destroy(xrad_solver *s, progressive **engine)
 {
-    progressive *p = s->impl;
+    progressive *p = engine ? *engine : NULL;
     if (!p)
         return;
     reconstruct_destroy(s->ctx, &p->reconstruct);
@@ -75,15 +76,15 @@ static void destroy(xrad_solver *s)
     gpu_buffer_destroy(s->ctx, &p->status);
     gpu_buffer_destroy(s->ctx, &p->shooters);
     free(p);
-    s->impl = NULL;
+    *engine = NULL;
 }
 
-static xrad_status create(xrad_solver *s, xrad_error *err)
+xrad_status progressive_create(xrad_solver *s, progressive **out, xrad_error *err)
 {
+    *out = NULL;
     progressive *p = calloc(1, sizeof(*p));
     if (!p)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "progressive solver: out of host memory");
-    s->impl = p;
     struct xrad_context *ctx = s->ctx;
     const gpu_scene *gs = &s->gs;
     p->max_shooters = shooter_capacity(s);
@@ -129,10 +130,11 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         .subdivide_ratio = s->desc.subdivide_ratio,
     };
     s->stats.hemicube_path = hemicube_path_name(p->hemicube);
+    *out = p;
     return XRAD_OK;
 
 fail:
-    destroy(s);
+    progressive_destroy(s, &p);
     return st;
 }
 
@@ -172,26 +174,39 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
     gpu_timer_end(s->timer, cmd);
 }
 
-static xrad_status solve(xrad_solver *s, xrad_error *err)
+xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32_t max_shots,
+                            xrad_error *err)
 {
-    progressive *p = s->impl;
     struct xrad_context *ctx = s->ctx;
-    /* gpu_scene_reset uploads with one-shot copies, each submitted and
-     * waited for (or none where B and Bu are host-visible): count them from
-     * the context's submission counter. */
-    uint64_t before = ctx->timeline_value;
-    xrad_status st = gpu_scene_reset(ctx, &s->gs, err);
-    if (st)
-        return st;
-    s->stats.submissions += (uint32_t)(ctx->timeline_value - before);
-    s->stats.host_waits += (uint32_t)(ctx->timeline_value - before);
     struct select_status *status = p->status.alloc.mapped;
-    memset(status, 0, sizeof(*status));
+    xrad_status st;
+    if (restart) {
+        /* gpu_scene_reset uploads with one-shot copies, each submitted and
+         * waited for (or none where B and Bu are host-visible): count them
+         * from the context's submission counter. */
+        uint64_t before = ctx->timeline_value;
+        if ((st = gpu_scene_reset(ctx, &s->gs, err)))
+            return st;
+        s->stats.submissions += (uint32_t)(ctx->timeline_value - before);
+        s->stats.host_waits += (uint32_t)(ctx->timeline_value - before);
+        memset(status, 0, sizeof(*status));
+    } else {
+        /* Continue: keep max_power (the emitted power, the threshold's
+         * scale) and let the select pass shoot again. */
+        status->converged = 0;
+    }
+    uint32_t limit = max_shots ? max_shots : s->desc.max_iterations;
+    uint32_t first = status->selections, first_patches = status->patches;
     uint32_t selected = 0;
     bool done = false;
+    /* A continuation after a redistribution often needs only a few shots,
+     * and every shot recorded after convergence still costs its (empty)
+     * passes: start small and double up to desc.batch. */
+    uint32_t batch = restart ? s->desc.batch : (s->desc.batch < 4 ? s->desc.batch : 4);
     while (!done) {
-        uint32_t n = s->desc.max_iterations - selected;
-        n = n < s->desc.batch ? n : s->desc.batch;
+        uint32_t n = limit - selected;
+        n = n < batch ? n : batch;
+        batch = 2 * batch < s->desc.batch ? 2 * batch : s->desc.batch;
         gpu_cmd c;
         if ((st = gpu_cmd_begin(ctx, &c, err)))
             return st;
@@ -212,15 +227,37 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
         gpu_cmd_destroy(ctx, &c);
         if (st || (st = gpu_timer_collect(ctx, s->timer, err)))
             return st;
-        selected = status->selections;
-        done = status->converged || selected >= s->desc.max_iterations;
+        selected = status->selections - first;
+        done = status->converged || selected >= limit ||
+               status->selections >= s->desc.max_iterations;
     }
-    s->stats.iterations = status->selections;
-    s->stats.shots = status->patches;
-    s->stats.hemicubes = status->patches;
+    s->stats.iterations += status->selections - first;
+    s->stats.shots += status->patches - first_patches;
+    s->stats.hemicubes += status->patches - first_patches;
     s->stats.residual = status->max_power > 0 ? status->power / status->max_power : 0;
-    solver_collect_times(s);
     return XRAD_OK;
 }
 
-const solver_ops progressive_ops = {create, solve, destroy};
+static void destroy(xrad_solver *s)
+{
+    progressive *p = s->impl;
+    progressive_destroy(s, &p);
+    s->impl = NULL;
+}
+
+static xrad_status create(xrad_solver *s, xrad_error *err)
+{
+    progressive *p = NULL;
+    xrad_status st = progressive_create(s, &p, err);
+    s->impl = p;
+    return st;
+}
+
+static xrad_status solve(xrad_solver *s, xrad_error *err)
+{
+    xrad_status st = progressive_run(s, s->impl, true, 0, err);
+    solver_collect_times(s);
+    return st;
+}
+
+const solver_ops progressive_ops = {create, solve, destroy, NULL};

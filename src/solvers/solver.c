@@ -16,6 +16,8 @@ static const struct {
     /* Each method file adds its line here when it lands. */
     {XRAD_METHOD_GATHER, "gather", &gather_ops},
     {XRAD_METHOD_PROGRESSIVE, "progressive", &progressive_ops},
+    {XRAD_METHOD_INCREMENTAL, "incremental", &incremental_ops},
+    {XRAD_METHOD_CROSS, "cross", &cross_ops},
     {0, NULL, NULL},
 };
 
@@ -73,6 +75,24 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
                          d->subdivide_ratio);
     if (!d->max_iterations)
         d->max_iterations = 100000;
+    if (d->frame_shots > 10000000)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "solver: frame_shots must be at most 1e7, got %u", d->frame_shots);
+    if (!d->cross_grid)
+        d->cross_grid = 4;
+    if (d->cross_grid > 16)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: cross_grid must be in [1, 16], got %u",
+                         d->cross_grid);
+    if (!d->back_res)
+        d->back_res = 16;
+    if (d->back_res < 8 || d->back_res > 256 || d->back_res % 2)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "solver: back_res must be even and in [8, 256], got %u", d->back_res);
+    if (!d->back_msaa)
+        d->back_msaa = 4;
+    if (d->back_msaa != 1 && d->back_msaa != 4)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: back_msaa must be 1 or 4, got %u",
+                         d->back_msaa);
     if (!(d->time == d->time) || d->time > 1e9 || d->time < -1e9)
         return xrad_fail(err, XRAD_ERROR_INPUT, "solver: time must be finite, got %g", d->time);
     return XRAD_OK;
@@ -118,24 +138,50 @@ void xrad_solver_destroy(xrad_solver **solver)
     *solver = NULL;
 }
 
-static double now_ms(void)
+double solver_now_ms(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
-xrad_status xrad_solver_solve(xrad_solver *s, xrad_error *err)
+void solver_stats_begin(xrad_solver *s)
 {
     const char *path = s->stats.hemicube_path;
     memset(&s->stats, 0, sizeof(s->stats));
     s->stats.hemicube_path = path;
-    /* Pass times are per solve. */
+    /* Pass times are per call. */
     memset(s->timer->totals, 0, sizeof(s->timer->totals));
     s->timer->name_count = 0;
-    double t0 = now_ms();
+}
+
+xrad_status xrad_solver_solve(xrad_solver *s, xrad_error *err)
+{
+    solver_stats_begin(s);
+    double t0 = solver_now_ms();
+    s->solved = false;
     xrad_status st = s->ops->solve(s, err);
-    s->stats.wall_ms = now_ms() - t0;
+    s->stats.wall_ms = solver_now_ms() - t0;
+    s->solved = st == XRAD_OK;
+    return st;
+}
+
+xrad_status xrad_solver_advance(xrad_solver *s, double time, xrad_error *err)
+{
+    if (!(time >= -1e9 && time <= 1e9))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: time must be finite, got %g", time);
+    if (!s->ops->advance || !s->solved) {
+        xrad_status st = xrad_solver_set_time(s, time, err);
+        return st ? st : xrad_solver_solve(s, err);
+    }
+    solver_stats_begin(s);
+    double t0 = solver_now_ms();
+    s->solved = false;
+    xrad_status st = s->ops->advance(s, time, err);
+    s->stats.wall_ms = solver_now_ms() - t0;
+    if (!st)
+        s->desc.time = time;
+    s->solved = st == XRAD_OK;
     return st;
 }
 
@@ -146,6 +192,9 @@ xrad_status xrad_solver_set_time(xrad_solver *s, double time, xrad_error *err)
     xrad_status st = gpu_scene_pose(s->ctx, &s->gs, time, err);
     if (!st)
         s->desc.time = time;
+    /* The solution in hand belongs to the old pose: a redistribution from
+     * it would start from the wrong geometry. */
+    s->solved = false;
     return st;
 }
 

@@ -7,6 +7,8 @@
 #ifndef XRAD_SOLVERS_SOLVER_H
 #define XRAD_SOLVERS_SOLVER_H
 
+#include <stdbool.h>
+
 #include "gpu/timer.h"
 #include "solvers/gpu_scene.h"
 #include "xrad.h"
@@ -18,6 +20,10 @@ typedef struct solver_ops {
     xrad_status (*solve)(struct xrad_solver *s, xrad_error *err);
     /* Releases s->impl; the GPU must be done with it. */
     void (*destroy)(struct xrad_solver *s);
+    /* Redistributes the solution in hand from the current pose to scene
+     * time `time` and continues it (dynamic methods); NULL: pose and solve
+     * anew. Called only once a solution exists. */
+    xrad_status (*advance)(struct xrad_solver *s, double time, xrad_error *err);
 } solver_ops;
 
 struct xrad_solver {
@@ -29,10 +35,19 @@ struct xrad_solver {
     xrad_solver_stats stats;
     const solver_ops *ops;
     void *impl;
+    bool solved; /* B holds a solution at the current pose (advance may redistribute it) */
 };
 
 extern const solver_ops gather_ops;
 extern const solver_ops progressive_ops;
+extern const solver_ops incremental_ops;
+extern const solver_ops cross_ops;
+
+/* Host monotonic clock, ms. */
+double solver_now_ms(void);
+
+/* Clears the per-call statistics and pass times (keeps the hemicube path). */
+void solver_stats_begin(struct xrad_solver *s);
 
 /* Adds the timer's per-pass totals into s->stats.passes and gpu_ms. */
 void solver_collect_times(struct xrad_solver *s);

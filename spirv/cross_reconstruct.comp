@@ -1,0 +1,219 @@
+#version 450
+// Cross redistribution, the shooting half (src/passes/cross_reconstruct.c;
+// thesis Algorithm 4.4 lines 15-20 and Algorithm 4.5), one invocation per
+// element looping over every patch of M:
+//
+//  element of M (R_p(M, M), reshooting): the total radiosity of each other
+//  patch it sees at the new pose, RECONSTRUCTIONSHADER(s, e, total);
+//
+//  element e of C (R_p(M, C) + R_x(C, C), eq. 3.3.1 as DESIGN.md writes it):
+//    where e sees s at the old pose:  rho_e F_old (P(C, s, e) - B^s_s)
+//    where e sees s' at the new pose: rho_e F_new (B_s' - P(C, s', e))
+//  B^s_s the patch's shot radiosity before the reset, B_s' its total after
+//  R_g(C, M). The new-pose projected term is subtracted, as in eq. 3.3.1:
+//  the patch now hides what lies behind it (line 39 of Algorithm 4.5
+//  writes a plus; the sign test in tests/solvers/test_cross.c decides).
+//
+// PROJECTEDRADIOSITY(s, e): grid x grid rays from e's receiver point
+// through the centres of a grid over the patch; each is REPROJECTed through
+// the patch's back hemicube (static geometry C drawn with its shot
+// radiosity, alpha = distance from the hemicube's origin): the distance
+// read in the ray's own direction (r' parallel to r, thesis 4.5.2) places
+// p' on the ray behind the patch, and the radiosity is read in the
+// direction of p' from the hemicube's origin. The mean over the grid is the
+// area-weighted projected radiosity of eq. 3.3.2.
+//
+// The distance is read at the nearest texel; radiosity bilinearly (unless
+// pc.bilinear is 0), and a tap beyond a face's edge is turned back into a
+// direction and read from the face it falls on (thesis 4.5.2: "care must
+// be taken with the edges of the hemicube").
+//
+// Visibility, receiver point and form factor are those of the reconstruct
+// pass (spirv/shooting.glsl).
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require
+#include "radiosity.h"
+#include "cross_shared.h"
+#include "hemicube.glsl"
+#include "shooting.glsl"
+
+layout(local_size_x = CROSS_RECONSTRUCT_GROUP) in;
+
+layout(push_constant) uniform Push { cross_reconstruct_push pc; };
+
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_B) buffer Total { vec4 B[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_BU) buffer Unshot { vec4 Bu[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_VALUES) readonly buffer Values { cross_value values[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_FRAMES) readonly buffer Frames { gpu_shooter frames[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_QUADS) readonly buffer Quads { cross_quad quads[]; };
+layout(binding = CROSS_RECONSTRUCT_BINDING_IDS_OLD) uniform utexture2DArray ids_old;
+layout(binding = CROSS_RECONSTRUCT_BINDING_IDS_NEW) uniform utexture2DArray ids_new;
+layout(binding = CROSS_RECONSTRUCT_BINDING_BACK_OLD) uniform texture2DArray back_old;
+layout(binding = CROSS_RECONSTRUCT_BINDING_BACK_NEW) uniform texture2DArray back_new;
+
+gpu_shooter frame(uint slot, uint table, uint p)
+{
+    return frames[(slot * CROSS_FRAME_TABLES + table) * pc.patch_count + p];
+}
+
+// The local frame of a hemicube (as spirv/hemicube_vert.glsl builds it).
+mat3 basis(gpu_shooter f)
+{
+    vec3 z = normalize(f.normal.xyz);
+    vec3 x = normalize(f.tangent.xyz - dot(f.tangent.xyz, z) * z);
+    return transpose(mat3(x, cross(z, x), z));
+}
+
+// Face of a local direction (d.z > 0) and its continuous pixel coordinate
+// at resolution res: hemicube_lookup without the clamp and the table
+// lookups, which cost more than the arithmetic in this inner loop.
+int back_face(vec3 d, out vec2 t)
+{
+    int face = 0;
+    vec2 ab = d.xy / d.z;
+    float best = d.z;
+    if (d.x > best) { face = 1; best = d.x; ab = vec2(d.y, d.z) / d.x; }
+    if (-d.x > best) { face = 2; best = -d.x; ab = vec2(-d.y, d.z) / -d.x; }
+    if (d.y > best) { face = 3; best = d.y; ab = vec2(-d.x, d.z) / d.y; }
+    if (-d.y > best) { face = 4; ab = vec2(d.x, d.z) / -d.y; }
+    t = (ab + 1.0) * 0.5 * float(pc.back_res);
+    return face;
+}
+
+// Samples of the back hemicube of patch p in local direction d (d.z > 0):
+// rgb the shot radiosity x scale, a the distance / diameter. Nearest, or
+// bilinear with taps beyond a face's edge turned back into directions and
+// read from the face they fall on. One copy per pose slot (macro): a
+// texture chosen at run time would be fetched from both.
+#define BACK_SAMPLERS(NAME, TEX)                                                              \
+    vec4 NAME##_nearest(uint p, vec3 d)                                                       \
+    {                                                                                         \
+        vec2 t;                                                                               \
+        int face = back_face(d, t);                                                           \
+        ivec2 px = clamp(ivec2(floor(t)), ivec2(0), ivec2(int(pc.back_res) - 1));              \
+        return texelFetch(TEX, ivec3(px, int(p) * HEMICUBE_FACES + face), 0);                 \
+    }                                                                                         \
+    vec4 NAME##_bilinear(uint p, vec3 d)                                                      \
+    {                                                                                         \
+        vec2 t;                                                                               \
+        int face = back_face(d, t);                                                           \
+        int base = int(p) * HEMICUBE_FACES;                                                   \
+        int last = int(pc.back_res) - 1;                                                      \
+        t -= 0.5;                                                                             \
+        ivec2 t0 = ivec2(floor(t));                                                           \
+        vec2 f = t - vec2(t0);                                                                \
+        vec4 c[4];                                                                            \
+        if (all(greaterThanEqual(t0, ivec2(0))) && all(lessThan(t0, ivec2(last)))) {          \
+            int l = base + face;                                                              \
+            c[0] = texelFetch(TEX, ivec3(t0, l), 0);                                          \
+            c[1] = texelFetch(TEX, ivec3(t0 + ivec2(1, 0), l), 0);                            \
+            c[2] = texelFetch(TEX, ivec3(t0 + ivec2(0, 1), l), 0);                            \
+            c[3] = texelFetch(TEX, ivec3(t0 + ivec2(1, 1), l), 0);                            \
+        } else {                                                                              \
+            for (int k = 0; k < 4; k++) {                                                     \
+                ivec2 tap = t0 + ivec2(k & 1, k >> 1);                                        \
+                vec2 tab = (vec2(tap) + 0.5) / float(pc.back_res) * 2.0 - 1.0;                 \
+                vec3 dir = HEMICUBE_FORWARD[face] + tab.x * HEMICUBE_RIGHT[face] +            \
+                           tab.y * HEMICUBE_UP[face];                                         \
+                dir.z = max(dir.z, 1e-6);                                                     \
+                vec2 q;                                                                       \
+                int qf = back_face(dir, q);                                                   \
+                ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), ivec2(last));                     \
+                c[k] = texelFetch(TEX, ivec3(qi, base + qf), 0);                              \
+            }                                                                                 \
+        }                                                                                     \
+        return mix(mix(c[0], c[1], f.x), mix(c[2], c[3], f.x), f.y);                          \
+    }                                                                                         \
+    vec3 NAME##_projected(uint slot, uint p, vec3 x)                                          \
+    {                                                                                         \
+        gpu_shooter back = frame(slot, CROSS_FRAMES_BACK, p);                                 \
+        mat3 to_local = basis(back);                                                          \
+        cross_quad q = quads[slot * pc.patch_count + p];                                      \
+        vec3 c = back.pos_area.xyz;                                                           \
+        vec3 du = (q.corner[1].xyz - q.corner[0].xyz), dv = (q.corner[3].xyz - q.corner[0].xyz); \
+        vec3 dw = (q.corner[2].xyz - q.corner[3].xyz) - du;                                   \
+        vec3 total = vec3(0.0);                                                               \
+        float inv = 1.0 / float(pc.grid);                                                     \
+        for (uint gy = 0u; gy < pc.grid; gy++) {                                              \
+            float tv = (float(gy) + 0.5) * inv;                                               \
+            for (uint gx = 0u; gx < pc.grid; gx++) {                                          \
+                float tu = (float(gx) + 0.5) * inv;                                           \
+                vec3 g = q.corner[0].xyz + tu * du + tv * dv + (tu * tv) * dw;                \
+                vec3 r = normalize(g - x);                                                    \
+                vec3 dir = to_local * r;                                                      \
+                if (dir.z <= 0.0)                                                             \
+                    continue;                                                                 \
+                float dist = NAME##_nearest(p, dir).a * pc.diameter;                          \
+                if (dist > 0.0)                                                               \
+                    dir = to_local * (g + r * dist - c);                                      \
+                if (dir.z <= 0.0)                                                             \
+                    continue;                                                                 \
+                total += pc.bilinear != 0u ? NAME##_bilinear(p, dir).rgb                      \
+                                           : NAME##_nearest(p, dir).rgb;                      \
+            }                                                                                 \
+        }                                                                                     \
+        return total * (inv * inv) * pc.inv_scale;                                            \
+    }
+
+BACK_SAMPLERS(back_old, back_old)
+BACK_SAMPLERS(back_new, back_new)
+
+// Form factor from x (normal ne) to the front of patch p at the pose of
+// `slot`, 0 where the patch faces away from x or x from it; `local` gets
+// x's direction in the patch's ID hemicube, which the caller tests.
+float patch_form_factor(uint slot, uint p, vec3 x, vec3 ne, out vec3 local)
+{
+    gpu_shooter f = frame(slot, CROSS_FRAMES_FRONT, p);
+    vec3 d = x - f.pos_area.xyz;
+    float cs = dot(d, f.normal.xyz), ce = -dot(d, ne);
+    local = vec3(0.0);
+    if (cs <= 0.0 || ce <= 0.0)
+        return 0.0;
+    local = basis(f) * d;
+    float area = f.pos_area.w;
+    if (shooting_near(d, area, pc.subdivide_ratio)) {
+        cross_quad q = quads[slot * pc.patch_count + p];
+        return shooting_point_to_quad(x, ne, vec3[4](q.corner[0].xyz, q.corner[1].xyz,
+                                                     q.corner[2].xyz, q.corner[3].xyz));
+    }
+    return shooting_disk(d, cs, ce, area);
+}
+
+void main()
+{
+    uint e = gl_GlobalInvocationID.x;
+    if (e >= pc.element_count)
+        return;
+    uint se = elements[e].surface;
+    gpu_surface sr = surfaces[se];
+    uint ke = e - sr.first_element;
+    vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+    vec3 ne = elements[e].normal.xyz;
+    uint id = se + 1u;
+    vec3 gathered = vec3(0.0);
+    for (uint p = 0u; p < pc.patch_count; p++) {
+        vec3 local;
+        if (sr.dynamic != 0u) {
+            if (frame(pc.new_slot, CROSS_FRAMES_FRONT, p).surface == se)
+                continue;
+            float ff = patch_form_factor(pc.new_slot, p, x, ne, local);
+            if (ff > 0.0 && shooting_visible(ids_new, pc.hemicube_res, true, local, p, id))
+                gathered += ff * values[p].total.rgb;
+            continue;
+        }
+        float f_old = patch_form_factor(pc.old_slot, p, x, ne, local);
+        if (f_old > 0.0 && shooting_visible(ids_old, pc.hemicube_res, true, local, p, id))
+            gathered += f_old * (back_old_projected(pc.old_slot, p, x) - values[p].shot.rgb);
+        float f_new = patch_form_factor(pc.new_slot, p, x, ne, local);
+        if (f_new > 0.0 && shooting_visible(ids_new, pc.hemicube_res, true, local, p, id))
+            gathered += f_new * (values[p].total.rgb - back_new_projected(pc.new_slot, p, x));
+    }
+    if (all(equal(gathered, vec3(0.0))))
+        return;
+    vec3 dB = materials[sr.material].albedo.rgb * gathered;
+    B[e].rgb += dB;
+    Bu[e].rgb += dB;
+}

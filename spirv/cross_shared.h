@@ -1,0 +1,114 @@
+/*
+ * Cross redistribution radiosity layouts shared by C (src/passes/
+ * cross_update.c, src/passes/cross_reconstruct.c, src/solvers/cross.c) and
+ * GLSL (spirv/cross_update.comp, spirv/cross_reconstruct.comp). Same rules
+ * as shared.h.
+ *
+ * The patches of the dynamic set M (thesis 4.5.1: no substructuring of M,
+ * one patch per coarse sample) are fixed: every dynamic surface is cut into
+ * cx x cy rectangles of its elements, cx x cy the sample counts of the
+ * object's cross_density (scene.h). Patch p owns the coarse sample (ci, cj)
+ * of its surface, where its gather hemicube sits (R_g(C, M), thesis 4.5.1);
+ * the elements of M take B from C by bilinear interpolation of those
+ * samples, as the display interpolates elements (thesis 4.1).
+ *
+ * Buffers:
+ *   patches[p]       cross_patch   the fixed layout, what no pose changes
+ *   values[p]        cross_value   shot radiosity before the reset, total after
+ *   frames[...]      gpu_shooter   hemicube frames, written by the host per pose
+ *   quads[...]       cross_quad    world corners of each patch, per pose
+ *   gathered[p]      vec4          R_g(C, M) sums (integrate pass output)
+ *   surface_patch[s] uint          the patch (ci, cj) = (0, 0) of dynamic surface s
+ */
+#ifndef XRAD_SPIRV_CROSS_SHARED_H
+#define XRAD_SPIRV_CROSS_SHARED_H
+
+#include "shared.h"
+
+struct cross_patch {
+    uint surface;    /* a dynamic surface */
+    uint i0, i1, j0; /* its elements [i0, i1] x [j0, j1] */
+    uint j1;
+    uint ci, cj;     /* its coarse sample (gather hemicube) */
+    uint cx, cy;     /* coarse samples of that surface along s and t, each >= 2 */
+    uint pad0, pad1, pad2;
+};
+
+struct cross_value {
+    vec4 shot;  /* area mean of B - Bu before the redistribution (old pose) */
+    vec4 total; /* area mean of B after R_g(C, M) (new pose) */
+};
+
+struct cross_quad {
+    vec4 corner[4]; /* world, at one pose, counter-clockwise seen from the front */
+};
+
+/* Frames buffer: per pose slot (2, alternating), three tables of
+ * patch_count gpu_shooter each: front (patch centre, normal), back (same
+ * centre, normal reversed: sees what lies behind the patch) and gather
+ * (coarse sample, normal). */
+#define CROSS_FRAMES_FRONT 0u
+#define CROSS_FRAMES_BACK 1u
+#define CROSS_FRAMES_GATHER 2u
+#define CROSS_FRAME_TABLES 3u
+
+/* cross_update.comp modes */
+#define CROSS_UPDATE_SHOT 0u      /* per patch: values.shot = mean(B - Bu) */
+#define CROSS_UPDATE_RESET 1u     /* per element of M: B = Bu = E */
+#define CROSS_UPDATE_SHOT_C 2u    /* per element: out = B - Bu on C, 0 on M (the hemicubes' atlas) */
+#define CROSS_UPDATE_GATHERED 3u  /* per element of M: B = E + rho * interpolated gathered, Bu = 0 */
+#define CROSS_UPDATE_TOTAL 4u     /* per patch: values.total = mean(B) */
+
+#define CROSS_UPDATE_BINDING_SURFACES 0
+#define CROSS_UPDATE_BINDING_ELEMENTS 1
+#define CROSS_UPDATE_BINDING_MATERIALS 2
+#define CROSS_UPDATE_BINDING_B 3
+#define CROSS_UPDATE_BINDING_BU 4
+#define CROSS_UPDATE_BINDING_PATCHES 5
+#define CROSS_UPDATE_BINDING_VALUES 6
+#define CROSS_UPDATE_BINDING_GATHERED 7
+#define CROSS_UPDATE_BINDING_OUT 8
+#define CROSS_UPDATE_BINDING_SURFACE_PATCH 9 /* uint[surface]: its patch (0, 0); static: none */
+#define CROSS_UPDATE_BINDING_COUNT 10
+
+#define CROSS_UPDATE_GROUP 64u
+
+struct cross_update_push {
+    uint mode;
+    uint count;        /* invocations: patches or elements */
+    uint element_count;
+    uint pad0;
+};
+
+#define CROSS_RECONSTRUCT_BINDING_SURFACES 0
+#define CROSS_RECONSTRUCT_BINDING_ELEMENTS 1
+#define CROSS_RECONSTRUCT_BINDING_MATERIALS 2
+#define CROSS_RECONSTRUCT_BINDING_B 3
+#define CROSS_RECONSTRUCT_BINDING_BU 4
+#define CROSS_RECONSTRUCT_BINDING_VALUES 5
+#define CROSS_RECONSTRUCT_BINDING_FRAMES 6
+#define CROSS_RECONSTRUCT_BINDING_QUADS 7
+#define CROSS_RECONSTRUCT_BINDING_IDS_OLD 8   /* R32_UINT array, patch p in layers p*5.. */
+#define CROSS_RECONSTRUCT_BINDING_IDS_NEW 9
+#define CROSS_RECONSTRUCT_BINDING_BACK_OLD 10 /* RGBA16F array: shot radiosity x scale, distance */
+#define CROSS_RECONSTRUCT_BINDING_BACK_NEW 11
+#define CROSS_RECONSTRUCT_BINDING_COUNT 12
+
+#define CROSS_RECONSTRUCT_GROUP 64u
+
+struct cross_reconstruct_push {
+    uint element_count;
+    uint patch_count;
+    uint hemicube_res;     /* ID hemicubes */
+    uint back_res;         /* back hemicubes */
+    uint grid;             /* PROJECTEDRADIOSITY rays per side (thesis 4.5.3 gridSize) */
+    uint bilinear;         /* 1: back hemicubes filtered bilinearly across face edges */
+    uint old_slot;         /* pose slot (0, 1) of the old pose in frames and quads */
+    uint new_slot;         /* and of the new pose */
+    float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
+    float inv_scale;       /* 1 / the back hemicubes' radiosity scale */
+    float diameter;        /* m: back hemicube alpha x this = distance */
+    float pad0;
+};
+
+#endif

@@ -1,0 +1,95 @@
+#version 450
+// Cross redistribution bookkeeping (src/passes/cross_update.c; thesis
+// Algorithm 4.4 lines 4-5 and 12-14, Algorithm 4.5 GATHERRADIOSITY), one
+// mode per dispatch (spirv/cross_shared.h):
+//  SHOT      per patch of M: the shooter table T gets the area mean of the
+//            shot radiosity B - Bu, before the reset (line 4);
+//  RESET     per element of M: B = Bu = E (line 5);
+//  SHOT_C    per element: B - Bu on C and 0 on M, the values the radiosity
+//            hemicubes see (R_g(C, M) gathers shot radiosity of C alone;
+//            M occludes but adds nothing, that is R_p(M, M));
+//  GATHERED  per element of M: B = E + rho * (the gathered sums of its
+//            surface's coarse samples, interpolated bilinearly at the
+//            element's sample), Bu = 0 (lines 12-14: the total is shot
+//            next, so nothing is left unshot);
+//  TOTAL     per patch of M: the area mean of B, what the patch shoots
+//            (line 13: T updated with B_s).
+#extension GL_GOOGLE_include_directive : require
+#include "radiosity.h"
+#include "cross_shared.h"
+
+layout(local_size_x = CROSS_UPDATE_GROUP) in;
+
+layout(push_constant) uniform Push { cross_update_push pc; };
+
+layout(std430, binding = CROSS_UPDATE_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_B) buffer Total { vec4 B[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_BU) buffer Unshot { vec4 Bu[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_PATCHES) readonly buffer Patches { cross_patch patches[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_VALUES) buffer Values { cross_value values[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_GATHERED) readonly buffer Gathered { vec4 gathered[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_OUT) writeonly buffer Out { vec4 outv[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_SURFACE_PATCH) readonly buffer SurfacePatch { uint surface_patch[]; };
+
+// Area mean over the patch's elements of B - Bu (shot) or B.
+vec3 patch_mean(cross_patch p, bool shot)
+{
+    gpu_surface sf = surfaces[p.surface];
+    vec3 sum = vec3(0.0);
+    float area = 0.0;
+    for (uint j = p.j0; j <= p.j1; j++) {
+        for (uint i = p.i0; i <= p.i1; i++) {
+            uint e = sf.first_element + j * sf.nu + i;
+            float a = elements[e].pos_area.w;
+            vec3 b = B[e].rgb;
+            sum += (shot ? b - Bu[e].rgb : b) * a;
+            area += a;
+        }
+    }
+    return area > 0.0 ? sum / area : vec3(0.0);
+}
+
+void main()
+{
+    uint k = gl_GlobalInvocationID.x;
+    if (k >= pc.count)
+        return;
+    if (pc.mode == CROSS_UPDATE_SHOT) {
+        values[k].shot = vec4(patch_mean(patches[k], true), 0.0);
+        return;
+    }
+    if (pc.mode == CROSS_UPDATE_TOTAL) {
+        values[k].total = vec4(patch_mean(patches[k], false), 0.0);
+        return;
+    }
+    gpu_surface sf = surfaces[elements[k].surface];
+    if (pc.mode == CROSS_UPDATE_SHOT_C) {
+        outv[k] = sf.dynamic != 0u ? vec4(0.0) : vec4(B[k].rgb - Bu[k].rgb, 0.0);
+        return;
+    }
+    if (sf.dynamic == 0u)
+        return;
+    gpu_material m = materials[sf.material];
+    if (pc.mode == CROSS_UPDATE_RESET) {
+        B[k] = vec4(m.emission.rgb, 0.0);
+        Bu[k] = vec4(m.emission.rgb, 0.0);
+        return;
+    }
+    // GATHERED: the element's sample parameters (i / (nu - 1), j / (nv - 1),
+    // scene.h) in its surface's grid of cx x cy coarse samples, whose
+    // patches are row-major in (ci, cj) from surface_patch[surface].
+    uint first = surface_patch[elements[k].surface];
+    uint cx = patches[first].cx, cy = patches[first].cy;
+    uint ke = k - sf.first_element;
+    vec2 st = vec2(float(ke % sf.nu) / float(sf.nu - 1u), float(ke / sf.nu) / float(sf.nv - 1u));
+    vec2 f = st * vec2(float(cx - 1u), float(cy - 1u));
+    uvec2 c0 = min(uvec2(floor(f)), uvec2(cx - 2u, cy - 2u));
+    f -= vec2(c0);
+    uint p00 = first + c0.y * cx + c0.x;
+    vec3 g = mix(mix(gathered[p00].rgb, gathered[p00 + 1u].rgb, f.x),
+                 mix(gathered[p00 + cx].rgb, gathered[p00 + cx + 1u].rgb, f.x), f.y);
+    B[k] = vec4(m.emission.rgb + m.albedo.rgb * g, 0.0);
+    Bu[k] = vec4(0.0);
+}

@@ -1,0 +1,172 @@
+#version 450
+// Incremental radiosity (src/passes/incremental_reconstruct.c; thesis
+// Algorithm 4.3 with the reshooting of 4.4.1), one mode per dispatch
+// (spirv/incremental_shared.h):
+//  CAPTURE    per shooter: the area means of shot (B - Bu), unshot (Bu) and
+//             total (B) radiosity over its elements (GENERATESHOOTINGPATCHES
+//             with "shot and unshot", line 8), taken before anything of the
+//             redistribution changes them;
+//  POWER      per surface: |luminance(sum_e B_e A_e)| on C, 0 on M: what
+//             the host sizes the shooting patches of C by (thesis 4.3.3);
+//  RESET      per element: M back to its emission, B = Bu = E (line 6, to
+//             be reshot), and C's unshot radiosity cleared (line 9: the
+//             C shooters shoot it in this redistribution);
+//  NEGATIVE   per element of C: the first part of R_p(M, C) (lines 3-5):
+//             minus the shot radiosity of each patch of M, through its ID
+//             hemicube at the old pose, with the old form factor;
+//  INCREMENT  per element, for the chunk's shooters of C (lines 13-18):
+//             elements of M receive the total radiosity where the new
+//             hemicube sees them (RECONSTRUCTIONSHADER(s, e, total), the
+//             reshooting of R_p(C, M)); elements of C follow
+//             INCREMENTALRECONSTRUCTIONSHADER (lines 22-37, R_p(C, C)):
+//             seen before and not now -> -shot, now and not before ->
+//             +total, both -> +unshot, neither -> nothing.
+// Receiver point, visibility and form factor as the reconstruct pass
+// (spirv/shooting.glsl; reasons in reconstruct.comp). Each shooter's frame
+// is the same in both of its hemicubes (C does not move), so the two
+// lookups differ only where M changed what the shooter sees.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require
+#include "radiosity.h"
+#include "incremental_shared.h"
+#include "hemicube.glsl"
+#include "shooting.glsl"
+
+layout(local_size_x = INCR_GROUP) in;
+
+layout(push_constant) uniform Push { incr_push pc; };
+
+layout(std430, binding = INCR_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+layout(std430, binding = INCR_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
+layout(std430, binding = INCR_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };
+layout(std430, binding = INCR_BINDING_B) buffer Total { vec4 B[]; };
+layout(std430, binding = INCR_BINDING_BU) buffer Unshot { vec4 Bu[]; };
+layout(std430, binding = INCR_BINDING_SHOOTERS) readonly buffer Shooters { gpu_shooter shooters[]; };
+layout(std430, binding = INCR_BINDING_VALUES) buffer Values { incr_value values[]; };
+layout(std430, binding = INCR_BINDING_POWER) writeonly buffer Power { float power[]; };
+layout(binding = INCR_BINDING_IDS_OLD) uniform utexture2DArray ids_old;
+layout(binding = INCR_BINDING_IDS_NEW) uniform utexture2DArray ids_new;
+
+// Rec. 709 luminance weights, as select_power.comp.
+const vec3 LUMA = vec3(0.2126, 0.7152, 0.0722);
+
+void capture(uint k)
+{
+    gpu_shooter sh = shooters[k];
+    gpu_surface sf = surfaces[sh.surface];
+    vec3 b = vec3(0.0), u = vec3(0.0);
+    float area = 0.0;
+    for (uint j = sh.j0; j <= sh.j1; j++) {
+        for (uint i = sh.i0; i <= sh.i1; i++) {
+            uint e = sf.first_element + j * sf.nu + i;
+            float a = elements[e].pos_area.w;
+            b += B[e].rgb * a;
+            u += Bu[e].rgb * a;
+            area += a;
+        }
+    }
+    float inv = area > 0.0 ? 1.0 / area : 0.0;
+    values[k].shot = vec4((b - u) * inv, 0.0);
+    values[k].unshot = vec4(u * inv, 0.0);
+    values[k].total = vec4(b * inv, 0.0);
+}
+
+void surface_power(uint s)
+{
+    gpu_surface sf = surfaces[s];
+    vec3 sum = vec3(0.0);
+    if (sf.dynamic == 0u) {
+        uint n = sf.nu * sf.nv;
+        for (uint k = 0u; k < n; k++)
+            sum += B[sf.first_element + k].rgb * elements[sf.first_element + k].pos_area.w;
+    }
+    power[s] = abs(dot(sum, LUMA));
+}
+
+void reset(uint e)
+{
+    gpu_surface sf = surfaces[elements[e].surface];
+    if (sf.dynamic != 0u) {
+        vec3 emission = materials[sf.material].emission.rgb;
+        B[e] = vec4(emission, 0.0);
+        Bu[e] = vec4(emission, 0.0);
+    } else {
+        Bu[e] = vec4(0.0);
+    }
+}
+
+// NEGATIVE and INCREMENT: element e gathers from shooters [first, first +
+// count), shooter first + h having its hemicubes in layers h * 5...
+void receive(uint e)
+{
+    uint se = elements[e].surface;
+    gpu_surface sr = surfaces[se];
+    bool moving = sr.dynamic != 0u;
+    if (pc.mode == INCR_MODE_NEGATIVE && moving)
+        return; // M is reset next; only C keeps what M shot
+    vec3 ne = elements[e].normal.xyz;
+    uint ke = e - sr.first_element;
+    vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+    bool near_texels = pc.neighbours != 0u;
+    vec3 gathered = vec3(0.0);
+    for (uint h = 0u; h < pc.count; h++) {
+        uint k = pc.first + h;
+        gpu_shooter sh = shooters[k];
+        if (sh.surface == se)
+            continue;
+        vec3 ns = sh.normal.xyz;
+        vec3 d = x - sh.pos_area.xyz;
+        float cs = dot(d, ns), ce = -dot(d, ne);
+        if (cs <= 0.0 || ce <= 0.0)
+            continue;
+        vec3 t = sh.tangent.xyz;
+        vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
+        vec3 r;
+        if (pc.mode == INCR_MODE_NEGATIVE) {
+            if (!shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u))
+                continue;
+            r = -values[k].shot.rgb;
+        } else if (moving) {
+            if (!shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u))
+                continue;
+            r = values[k].total.rgb;
+        } else {
+            bool was = shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u);
+            bool is = shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u);
+            if (!was && !is)
+                continue;
+            r = was && !is   ? -values[k].shot.rgb  // occluded by M
+                : !was && is ? values[k].total.rgb  // unoccluded
+                             : values[k].unshot.rgb; // unchanged: a progressive shot
+        }
+        if (all(equal(r, vec3(0.0))))
+            continue;
+        float area = sh.pos_area.w;
+        float ff = shooting_near(d, area, pc.subdivide_ratio)
+                       ? shooting_quad(x, ne, surfaces[sh.surface], sh)
+                       : shooting_disk(d, cs, ce, area);
+        gathered += r * ff;
+    }
+    if (all(equal(gathered, vec3(0.0))))
+        return;
+    vec3 dB = materials[sr.material].albedo.rgb * gathered;
+    B[e].rgb += dB;
+    Bu[e].rgb += dB;
+}
+
+void main()
+{
+    uint k = gl_GlobalInvocationID.x;
+    if (pc.mode == INCR_MODE_CAPTURE) {
+        if (k < pc.count)
+            capture(pc.first + k);
+    } else if (pc.mode == INCR_MODE_POWER) {
+        if (k < pc.count)
+            surface_power(k);
+    } else if (pc.mode == INCR_MODE_RESET) {
+        if (k < pc.count)
+            reset(k);
+    } else if (k < pc.element_count) {
+        receive(k);
+    }
+}

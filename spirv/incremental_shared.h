@@ -1,0 +1,60 @@
+/*
+ * Incremental radiosity layouts shared by C (src/passes/
+ * incremental_reconstruct.c, src/solvers/incremental.c) and GLSL
+ * (spirv/incremental_reconstruct.comp). Same rules as shared.h.
+ *
+ * Buffers:
+ *   shooters[k]  gpu_shooter      one table: the patches of M at the old pose
+ *                                 first, then the shooting patches of C
+ *                                 (written by the host; `radiosity` unused)
+ *   values[k]    incr_value       what shooter k shoots, captured before any
+ *                                 of the redistribution's shots changes it
+ *   power[s]     float            per surface: |luminance(sum_e B_e A_e)| on
+ *                                 C, 0 on M (host-visible, read per frame)
+ *   ids_old/new  R32_UINT arrays  the chunk's ID hemicubes at the old and the
+ *                                 new pose; shooter first + h in layers h*5..
+ */
+#ifndef XRAD_SPIRV_INCREMENTAL_SHARED_H
+#define XRAD_SPIRV_INCREMENTAL_SHARED_H
+
+#include "shared.h"
+
+struct incr_value {
+    vec4 shot;   /* area mean of B - Bu over the patch */
+    vec4 unshot; /* area mean of Bu */
+    vec4 total;  /* area mean of B */
+};
+
+/* incremental_reconstruct.comp modes */
+#define INCR_MODE_CAPTURE 0u   /* per shooter in [first, first + count): values = means */
+#define INCR_MODE_POWER 1u     /* per surface: power = |luminance(sum B A)| on C, 0 on M */
+#define INCR_MODE_RESET 2u     /* per element: M: B = Bu = E; C: Bu = 0 */
+#define INCR_MODE_NEGATIVE 3u  /* per element of C: -shot of the chunk's M shooters, old pose */
+#define INCR_MODE_INCREMENT 4u /* per element: Algorithm 4.3 lines 13-18 for the chunk's C shooters */
+
+#define INCR_BINDING_SURFACES 0
+#define INCR_BINDING_ELEMENTS 1
+#define INCR_BINDING_MATERIALS 2
+#define INCR_BINDING_B 3
+#define INCR_BINDING_BU 4
+#define INCR_BINDING_SHOOTERS 5
+#define INCR_BINDING_VALUES 6
+#define INCR_BINDING_POWER 7
+#define INCR_BINDING_IDS_OLD 8
+#define INCR_BINDING_IDS_NEW 9
+#define INCR_BINDING_COUNT 10
+
+#define INCR_GROUP 64u
+
+struct incr_push {
+    uint mode;
+    uint count;         /* invocations (CAPTURE, POWER, RESET) or shooters in the chunk */
+    uint first;         /* first shooter of the chunk / of the captured range */
+    uint element_count;
+    uint hemicube_res;  /* pixels per face side of the ID hemicubes */
+    uint neighbours;    /* 1: nearest-texel visibility check (thesis 4.3.3) */
+    float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
+    float pad0;
+};
+
+#endif

@@ -1,0 +1,105 @@
+// What a receiving element computes from one shooting patch, shared by the
+// passes that shoot (reconstruct.comp, cross_reconstruct.comp,
+// incremental_reconstruct.comp): its receiver point, the visibility test in
+// the shooter's ID hemicube and the form factor. Include after radiosity.h
+// and hemicube.glsl. The reasons for each choice are in reconstruct.comp.
+#ifndef XRAD_SHOOTING_GLSL
+#define XRAD_SHOOTING_GLSL
+
+const float SHOOTING_PI = 3.14159265358979323846;
+
+// The surface's ID (surface + 1) in the ID hemicube `hemicube` of `ids` in
+// the local direction, or, with `neighbours`, in one of the 8 texels
+// around it (nearest-texel check, thesis 4.3.3).
+bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local, uint hemicube,
+                      uint id)
+{
+    uvec2 px;
+    int face = hemicube_lookup(local, res, px);
+    int layer = int(hemicube) * HEMICUBE_FACES + face;
+    if (texelFetch(ids, ivec3(px, layer), 0).r == id)
+        return true;
+    if (!neighbours)
+        return false;
+    int last = int(res) - 1;
+    for (int dy = -1; dy <= 1; dy++) {
+        for (int dx = -1; dx <= 1; dx++) {
+            ivec2 q = clamp(ivec2(px) + ivec2(dx, dy), ivec2(0), ivec2(last));
+            if (texelFetch(ids, ivec3(q, layer), 0).r == id)
+                return true;
+        }
+    }
+    return false;
+}
+
+vec3 shooting_bilinear(gpu_surface sf, float s, float t)
+{
+    return mix(mix(sf.corner[0].xyz, sf.corner[1].xyz, s), mix(sf.corner[3].xyz, sf.corner[2].xyz, s), t);
+}
+
+// The parameter interval covered by samples [i0, i1] of n along one side
+// (src/scene/scene.h), as in select.comp.
+vec2 shooting_param_range(uint i0, uint i1, uint n)
+{
+    float h = 1.0 / float(n - 1u);
+    return vec2(max(0.0, (float(i0) - 0.5) * h), min(1.0, (float(i1) + 0.5) * h));
+}
+
+// Form factor from the point x (unit normal n) to the convex polygon q[0..3]
+// clipped to the half-space in front of x (Lambert: (1/2pi) sum_k gamma_k
+// n . (R_k x R_k+1) / |R_k x R_k+1|, ground-truth.md).
+float shooting_point_to_quad(vec3 x, vec3 n, vec3 q[4])
+{
+    vec3 r[5];
+    int count = 0;
+    for (int k = 0; k < 4; k++) {
+        vec3 a = q[k] - x, b = q[(k + 1) % 4] - x;
+        float da = dot(a, n), db = dot(b, n);
+        if (da > 0.0 && count < 5)
+            r[count++] = a;
+        if ((da > 0.0) != (db > 0.0) && count < 5)
+            r[count++] = mix(a, b, da / (da - db));
+    }
+    float sum = 0.0;
+    for (int k = 0; k < count; k++) {
+        vec3 c = cross(r[k], r[(k + 1) % count]);
+        float cl = length(c);
+        if (cl > 0.0)
+            sum += atan(cl, dot(r[k], r[(k + 1) % count])) * dot(n, c) / cl;
+    }
+    return abs(sum) / (2.0 * SHOOTING_PI);
+}
+
+// The receiver point of element (i, j) of surface sf: the centroid of its cell.
+vec3 shooting_cell_centroid(gpu_surface sf, uint i, uint j)
+{
+    vec2 rs = shooting_param_range(i, i, sf.nu), rt = shooting_param_range(j, j, sf.nv);
+    return shooting_bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y));
+}
+
+// The form factor from the receiver point x (normal ne) to the patch sh of
+// surface sf, for d = x - centre, cs = cos at the shooter and ce = cos at
+// the receiver (both > 0): the disk approximation (eq. 2.2.7/2.2.8 with
+// m = 1) where A_s / r^2 <= ratio; nearer, the exact point-to-quad form
+// factor to the patch (the limit of the subdivision of thesis 4.3.3).
+// Callers test near() first so that the surface is read only when needed.
+bool shooting_near(vec3 d, float area, float ratio)
+{
+    return area > ratio * dot(d, d);
+}
+
+float shooting_disk(vec3 d, float cs, float ce, float area)
+{
+    float r2 = dot(d, d);
+    return area * cs * ce / (r2 * (SHOOTING_PI * r2 + area));
+}
+
+float shooting_quad(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh)
+{
+    vec2 rs = shooting_param_range(sh.i0, sh.i1, sf.nu), rt = shooting_param_range(sh.j0, sh.j1, sf.nv);
+    vec3 q[4] = vec3[4](shooting_bilinear(sf, rs.x, rt.x), shooting_bilinear(sf, rs.y, rt.x),
+                        shooting_bilinear(sf, rs.y, rt.y), shooting_bilinear(sf, rs.x, rt.y));
+    return shooting_point_to_quad(x, ne, q);
+}
+
+#endif

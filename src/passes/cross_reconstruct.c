@@ -1,0 +1,92 @@
+#include "passes/cross_reconstruct.h"
+
+#include <stdlib.h>
+
+#include "core/error.h"
+#include "cross_reconstruct.comp.h"
+#include "cross_shared.h"
+#include "gpu/kernel.h"
+
+struct cross_reconstruct_pass {
+    gpu_kernel kernel; /* set k: new pose in slot k */
+};
+
+xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,
+                                     xrad_error *err)
+{
+    *out = NULL;
+    cross_reconstruct_pass *p = calloc(1, sizeof(*p));
+    if (!p)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "cross reconstruct pass: out of host memory");
+    VkDescriptorType types[CROSS_RECONSTRUCT_BINDING_COUNT];
+    for (uint32_t b = 0; b < CROSS_RECONSTRUCT_BINDING_COUNT; b++)
+        types[b] = b >= CROSS_RECONSTRUCT_BINDING_IDS_OLD ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE
+                                                           : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    gpu_kernel_desc d = {
+        .spv = cross_reconstruct_comp_spv,
+        .spv_bytes = sizeof(cross_reconstruct_comp_spv),
+        .types = types,
+        .binding_count = CROSS_RECONSTRUCT_BINDING_COUNT,
+        .set_count = 2,
+        .push_bytes = sizeof(struct cross_reconstruct_push),
+        .name = "cross reconstruct pass",
+    };
+    xrad_status s = gpu_kernel_create(ctx, &d, &p->kernel, err);
+    if (s) {
+        free(p);
+        return s;
+    }
+    *out = p;
+    return XRAD_OK;
+}
+
+void cross_reconstruct_destroy(struct xrad_context *ctx, cross_reconstruct_pass **pass)
+{
+    if (!pass || !*pass)
+        return;
+    gpu_kernel_destroy(ctx, &(*pass)->kernel);
+    free(*pass);
+    *pass = NULL;
+}
+
+void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *p,
+                            const cross_reconstruct_bindings *b)
+{
+    for (uint32_t k = 0; k < 2; k++) {
+        gpu_kernel_resource r[CROSS_RECONSTRUCT_BINDING_COUNT] = {
+            [CROSS_RECONSTRUCT_BINDING_SURFACES] = {b->surfaces, 0},
+            [CROSS_RECONSTRUCT_BINDING_ELEMENTS] = {b->elements, 0},
+            [CROSS_RECONSTRUCT_BINDING_MATERIALS] = {b->materials, 0},
+            [CROSS_RECONSTRUCT_BINDING_B] = {b->B, 0},
+            [CROSS_RECONSTRUCT_BINDING_BU] = {b->Bu, 0},
+            [CROSS_RECONSTRUCT_BINDING_VALUES] = {b->values, 0},
+            [CROSS_RECONSTRUCT_BINDING_FRAMES] = {b->frames, 0},
+            [CROSS_RECONSTRUCT_BINDING_QUADS] = {b->quads, 0},
+            [CROSS_RECONSTRUCT_BINDING_IDS_OLD] = {NULL, b->ids[1 - k]},
+            [CROSS_RECONSTRUCT_BINDING_IDS_NEW] = {NULL, b->ids[k]},
+            [CROSS_RECONSTRUCT_BINDING_BACK_OLD] = {NULL, b->back[1 - k]},
+            [CROSS_RECONSTRUCT_BINDING_BACK_NEW] = {NULL, b->back[k]},
+        };
+        gpu_kernel_bind(ctx, &p->kernel, k, r);
+    }
+}
+
+void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
+                              const cross_reconstruct_params *q)
+{
+    struct cross_reconstruct_push push = {
+        .element_count = q->element_count,
+        .patch_count = q->patch_count,
+        .hemicube_res = q->hemicube_res,
+        .back_res = q->back_res,
+        .grid = q->grid,
+        .bilinear = q->bilinear ? 1u : 0u,
+        .old_slot = 1u - q->new_slot,
+        .new_slot = q->new_slot,
+        .subdivide_ratio = (float)q->subdivide_ratio,
+        .inv_scale = (float)(1.0 / q->back_scale),
+        .diameter = (float)q->diameter,
+    };
+    gpu_kernel_dispatch(&p->kernel, cmd, q->new_slot, &push, q->element_count,
+                        CROSS_RECONSTRUCT_GROUP);
+}

@@ -1,0 +1,62 @@
+/*
+ * Cross reconstruct pass (DESIGN.md "GPU passes", "Cross-project"; thesis
+ * Algorithm 4.4 lines 15-20 and Algorithm 4.5): one compute invocation per
+ * element, looping over every patch of the dynamic set M. Elements of M
+ * receive the patches' total radiosity through the new-pose ID hemicubes
+ * (R_p(M, M) by reshooting); elements of C receive eq. 3.3.1, R_p(M, C) +
+ * R_x(C, C), with PROJECTEDRADIOSITY over a grid x grid ray grid
+ * REPROJECTed through the back hemicubes (spirv/cross_reconstruct.comp
+ * says how). Two descriptor sets, one per pose slot of the new pose: set k
+ * reads slot k's hemicubes as the new pose and slot 1 - k's as the old.
+ */
+#ifndef XRAD_PASSES_CROSS_RECONSTRUCT_H
+#define XRAD_PASSES_CROSS_RECONSTRUCT_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <vulkan/vulkan.h>
+
+#include "gpu/buffer.h"
+#include "xrad.h"
+
+struct xrad_context;
+
+typedef struct cross_reconstruct_pass cross_reconstruct_pass;
+
+typedef struct cross_reconstruct_bindings {
+    const gpu_buffer *surfaces, *elements, *materials; /* spirv/radiosity.h, new pose */
+    const gpu_buffer *B, *Bu;                          /* vec4[element_count], updated */
+    const gpu_buffer *values;                          /* struct cross_value[patch_count] */
+    const gpu_buffer *frames;                          /* gpu_shooter, spirv/cross_shared.h */
+    const gpu_buffer *quads;                           /* struct cross_quad[2 * patch_count] */
+    /* Per pose slot: ID hemicubes (R32_UINT array) and back hemicubes
+     * (RGBA16F array), patch p in layers 5p..5p+4, SHADER_READ_ONLY_OPTIMAL. */
+    VkImageView ids[2], back[2];
+} cross_reconstruct_bindings;
+
+typedef struct cross_reconstruct_params {
+    uint32_t element_count, patch_count;
+    uint32_t hemicube_res, back_res;
+    uint32_t grid;          /* PROJECTEDRADIOSITY rays per side */
+    bool bilinear;          /* back hemicubes filtered across face edges */
+    uint32_t new_slot;      /* pose slot of the new pose; the old one is 1 - new_slot */
+    double subdivide_ratio; /* exact form factor where A_s / r^2 exceeds it */
+    double back_scale;      /* the back hemicubes hold shot radiosity x this */
+    double diameter;        /* m, the back hemicubes' alpha x this = distance */
+} cross_reconstruct_params;
+
+xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,
+                                     xrad_error *err);
+/* Accepts NULL; sets *pass to NULL. The GPU must be done with it. */
+void cross_reconstruct_destroy(struct xrad_context *ctx, cross_reconstruct_pass **pass);
+
+/* Writes both sets. No recording that uses the pass may be pending. */
+void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *pass,
+                            const cross_reconstruct_bindings *b);
+
+/* The caller orders the hemicube renders and the value updates before it
+ * and the readers of B and Bu after it. */
+void cross_reconstruct_record(cross_reconstruct_pass *pass, VkCommandBuffer cmd,
+                              const cross_reconstruct_params *params);
+
+#endif

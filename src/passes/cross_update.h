@@ -1,0 +1,48 @@
+/*
+ * Cross update pass (thesis Algorithm 4.4 lines 4-5 and 12-14, Algorithm
+ * 4.5 GATHERRADIOSITY): the bookkeeping of one redistribution on the
+ * patches and elements of the dynamic set M, one compute dispatch per step
+ * (modes in spirv/cross_shared.h, what each does in spirv/
+ * cross_update.comp): capture the patches' shot radiosity, reset M to its
+ * emission, write the shot radiosity of C for the hemicubes, set M from
+ * the gathered sums, and take the patches' total radiosity.
+ */
+#ifndef XRAD_PASSES_CROSS_UPDATE_H
+#define XRAD_PASSES_CROSS_UPDATE_H
+
+#include <stdint.h>
+#include <vulkan/vulkan.h>
+
+#include "gpu/buffer.h"
+#include "xrad.h"
+
+struct xrad_context;
+
+typedef struct cross_update_pass cross_update_pass;
+
+typedef struct cross_update_bindings {
+    const gpu_buffer *surfaces, *elements, *materials; /* spirv/radiosity.h */
+    const gpu_buffer *B, *Bu;                          /* vec4[element_count] */
+    const gpu_buffer *patches;                         /* struct cross_patch[patch_count] */
+    const gpu_buffer *values;                          /* struct cross_value[patch_count] */
+    const gpu_buffer *gathered;                        /* vec4[patch_count] */
+    const gpu_buffer *out;                             /* vec4[element_count] (SHOT_C) */
+    const gpu_buffer *surface_patch;                   /* uint[surface_count] */
+} cross_update_bindings;
+
+xrad_status cross_update_create(struct xrad_context *ctx, cross_update_pass **out,
+                                xrad_error *err);
+/* Accepts NULL; sets *pass to NULL. The GPU must be done with it. */
+void cross_update_destroy(struct xrad_context *ctx, cross_update_pass **pass);
+
+/* No recording that uses the pass may be pending on the GPU. */
+void cross_update_bind(struct xrad_context *ctx, cross_update_pass *pass,
+                       const cross_update_bindings *b);
+
+/* Records one step (CROSS_UPDATE_*) over the scene's patch_count patches or
+ * element_count elements. The caller orders what it reads before it and
+ * its readers after it. */
+void cross_update_record(cross_update_pass *pass, VkCommandBuffer cmd, uint32_t mode,
+                         uint32_t patch_count, uint32_t element_count);
+
+#endif

@@ -1,0 +1,156 @@
+#include "solvers/dynamic_patches.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+#include "passes/hemicube_geometry.h"
+#include "scene/scene_internal.h"
+
+xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
+                                  dynamic_patches *out, xrad_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    uint32_t n = 0;
+    uint32_t *cx = calloc(scene->surface_count ? scene->surface_count : 1, 2 * sizeof(uint32_t));
+    out->surface_patch = malloc((scene->surface_count ? scene->surface_count : 1) *
+                                sizeof(uint32_t));
+    if (!cx || !out->surface_patch) {
+        free(cx);
+        dynamic_patches_free(out);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for patches",
+                         scene->path);
+    }
+    for (uint32_t s = 0; s < scene->surface_count; s++) {
+        const surface *sf = &scene->surfaces[s];
+        const object *ob = &scene->objects[sf->object];
+        out->surface_patch[s] = DYNAMIC_PATCH_NONE;
+        if (!ob->dynamic)
+            continue;
+        uint32_t a = max_patches, b = max_patches;
+        if (ob->cross_density > 0) {
+            double lu, lv;
+            scene_quad_edge_lengths(sf, &lu, &lv);
+            a = (uint32_t)scene_samples_along(lu, ob->cross_density);
+            b = (uint32_t)scene_samples_along(lv, ob->cross_density);
+        }
+        /* A block holds at least one element; a coarse grid has 2 samples a side. */
+        a = a < sf->nu ? a : sf->nu;
+        b = b < sf->nv ? b : sf->nv;
+        cx[2 * s] = a < 2 ? 2 : a;
+        cx[2 * s + 1] = b < 2 ? 2 : b;
+        out->surface_patch[s] = n;
+        n += cx[2 * s] * cx[2 * s + 1];
+    }
+    if (n) {
+        out->patches = calloc(n, sizeof(*out->patches));
+        out->area = calloc(n, sizeof(*out->area));
+        if (!out->patches || !out->area) {
+            free(cx);
+            dynamic_patches_free(out);
+            return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for patches",
+                             scene->path);
+        }
+    }
+    out->count = n;
+    for (uint32_t s = 0; s < scene->surface_count; s++) {
+        if (out->surface_patch[s] == DYNAMIC_PATCH_NONE)
+            continue;
+        const surface *sf = &scene->surfaces[s];
+        uint32_t kx = cx[2 * s], ky = cx[2 * s + 1];
+        for (uint32_t cj = 0; cj < ky; cj++) {
+            for (uint32_t ci = 0; ci < kx; ci++) {
+                uint32_t p = out->surface_patch[s] + cj * kx + ci;
+                struct cross_patch *q = &out->patches[p];
+                q->surface = s;
+                q->i0 = ci * sf->nu / kx;
+                q->i1 = (ci + 1) * sf->nu / kx - 1;
+                q->j0 = cj * sf->nv / ky;
+                q->j1 = (cj + 1) * sf->nv / ky - 1;
+                q->ci = ci;
+                q->cj = cj;
+                q->cx = kx;
+                q->cy = ky;
+                for (uint32_t j = q->j0; j <= q->j1; j++)
+                    for (uint32_t i = q->i0; i <= q->i1; i++)
+                        out->area[p] += scene->elements[sf->first_element + j * sf->nu + i].area;
+            }
+        }
+    }
+    free(cx);
+    return XRAD_OK;
+}
+
+void dynamic_patches_free(dynamic_patches *dp)
+{
+    if (!dp)
+        return;
+    free(dp->patches);
+    free(dp->surface_patch);
+    free(dp->area);
+    memset(dp, 0, sizeof(*dp));
+}
+
+static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
+
+static vec3 bilinear(const vec3 c[4], double u, double v)
+{
+    return v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
+}
+
+/* The parameter interval covered by samples [i0, i1] of n (scene.h). */
+static void param_range(uint32_t i0, uint32_t i1, uint32_t n, double *lo, double *hi)
+{
+    double h = 1.0 / (n - 1);
+    *lo = fmax(0.0, (i0 - 0.5) * h);
+    *hi = fmin(1.0, (i1 + 0.5) * h);
+}
+
+void dynamic_patches_pose(const xrad_scene *scene, const dynamic_patches *dp, double t,
+                          uint32_t seed, struct gpu_shooter *front, struct gpu_shooter *back,
+                          struct gpu_shooter *gather, struct cross_quad *quads)
+{
+    for (uint32_t p = 0; p < dp->count; p++) {
+        const struct cross_patch *q = &dp->patches[p];
+        const surface *sf = &scene->surfaces[q->surface];
+        vec3 c[4], n;
+        scene_surface_world(scene, q->surface, t, c, &n);
+        vec3 u = v3_sub(c[1], c[0]);
+        vec3 x0 = v3_norm(v3_sub(u, v3_scale(n, v3_dot(u, n))));
+        mat3 r = m3_rotation(n, hemicube_rotation(seed * 0x9e3779b9u + 0x7f4a7c15u + p));
+        vec3 tangent = m3_apply(&r, x0);
+        double s0, s1, t0, t1;
+        param_range(q->i0, q->i1, sf->nu, &s0, &s1);
+        param_range(q->j0, q->j1, sf->nv, &t0, &t1);
+        struct gpu_shooter f = {
+            .pos_area = to_vec4(bilinear(c, 0.5 * (s0 + s1), 0.5 * (t0 + t1)), dp->area[p]),
+            .normal = to_vec4(n, 0),
+            .tangent = to_vec4(tangent, 0),
+            .surface = q->surface,
+            .i0 = q->i0,
+            .i1 = q->i1,
+            .j0 = q->j0,
+            .j1 = q->j1,
+            .hemicube = p,
+        };
+        if (front)
+            front[p] = f;
+        if (back) {
+            back[p] = f;
+            back[p].normal = to_vec4(v3_scale(n, -1), 0);
+        }
+        if (gather) {
+            double g0, g1, h0, h1;
+            param_range(q->ci, q->ci, q->cx, &g0, &g1);
+            param_range(q->cj, q->cj, q->cy, &h0, &h1);
+            gather[p] = f;
+            gather[p].pos_area = to_vec4(bilinear(c, 0.5 * (g0 + g1), 0.5 * (h0 + h1)), 0);
+        }
+        if (quads) {
+            const double st[4][2] = {{s0, t0}, {s1, t0}, {s1, t1}, {s0, t1}};
+            for (int k = 0; k < 4; k++)
+                quads[p].corner[k] = to_vec4(bilinear(c, st[k][0], st[k][1]), 1);
+        }
+    }
+}

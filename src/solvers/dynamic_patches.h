@@ -1,0 +1,50 @@
+/*
+ * The fixed shooting patches of the dynamic set M (thesis 4.5.1: the cross
+ * method does not substructure M; thesis 5.1: it uses fewer elements on
+ * the moving object than the other methods), shared by the dynamic
+ * methods. Each dynamic surface is cut into cx x cy blocks of its
+ * elements, cx x cy the sample counts its object's cross_density gives
+ * (scene.h; without one, the smaller of the element count and max_patches
+ * per side), each block one patch; patch (ci, cj) also owns the coarse
+ * sample (ci, cj) of the surface (spirv/cross_shared.h). Host only: the
+ * layout is fixed at build, the frames are made per pose.
+ */
+#ifndef XRAD_SOLVERS_DYNAMIC_PATCHES_H
+#define XRAD_SOLVERS_DYNAMIC_PATCHES_H
+
+#include <stdint.h>
+
+#include "cross_shared.h"
+#include "radiosity.h"
+#include "scene/scene.h"
+#include "xrad.h"
+
+#define DYNAMIC_PATCH_NONE 0xffffffffu
+
+typedef struct dynamic_patches {
+    uint32_t count;
+    struct cross_patch *patches; /* [count], surface by surface, row-major in (ci, cj) */
+    uint32_t *surface_patch;     /* [surface_count]: patch (0, 0) of a dynamic surface, else NONE */
+    double *area;                /* [count], m^2: the block's element areas summed */
+} dynamic_patches;
+
+/* The layout for `scene`; max_patches (>= 1) bounds the sides of surfaces
+ * whose object has no cross_density. A scene without dynamic surfaces has
+ * count 0 (and allocates nothing). */
+xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
+                                  dynamic_patches *out, xrad_error *err);
+/* Accepts a zeroed struct; zeroes it. */
+void dynamic_patches_free(dynamic_patches *dp);
+
+/* The patches posed at scene time t, each array [count] (any may be
+ * NULL): front hemicube frames (patch centre, surface normal; tangent the
+ * u edge turned by a fixed angle per patch, thesis 4.2, so that a pose
+ * renders the same hemicubes whenever it is rendered), back frames (same
+ * centre and tangent, normal reversed), gather frames (the centroid of the
+ * coarse sample's cell, as the gather method places its hemicubes) and the
+ * patch quads. Frames' `hemicube` is the patch index, `radiosity` 0. */
+void dynamic_patches_pose(const xrad_scene *scene, const dynamic_patches *dp, double t,
+                          uint32_t seed, struct gpu_shooter *front, struct gpu_shooter *back,
+                          struct gpu_shooter *gather, struct cross_quad *quads);
+
+#endif

@@ -1,0 +1,509 @@
+/*
+ * Incremental radiosity (thesis 4.4, Algorithm 4.3 with the reshooting of
+ * 4.4.1; DESIGN.md "Methods"). The first solve is progressive refinement
+ * (solvers/progressive.h). Each frame then redistributes the solution in
+ * hand from the old pose to the new one, in the order of thesis 4.4.1
+ * "Overview", and continues with progressive iterations:
+ *
+ *  1. Old pose (Algorithm 4.3 lines 3-5, first part of R_p(M, C)): copy
+ *     the hemicube vertices (the old geometry of M, for step 3), capture
+ *     each fixed patch of M's shot radiosity (solvers/dynamic_patches.h)
+ *     and shoot it negated to the elements of C through an ID hemicube at
+ *     the patch's old front frame, with the old form factor. The same
+ *     command buffer sums every static surface's total power for step 3's
+ *     subdivision; the host reads those few floats back (one small
+ *     readback per frame: the host waits here anyway, since the pose
+ *     upload below needs the GPU to be done with the geometry).
+ *  2. gpu_scene_pose(new time); M back to its emission (line 6).
+ *  3. For every surface q of C (lines 7-20): shooting patches sized from
+ *     q's total power as the select pass sizes them (thesis 4.3.3), laid
+ *     out by the host; the GPU captures each patch's shot, unshot and
+ *     total area means, then clears C's unshot radiosity (line 9). Per
+ *     patch s two ID hemicubes with the same frame, one drawn with the old
+ *     vertices and one with the new (lines 11-12; only M moved), and the
+ *     reconstruction: elements of M receive rho F total where the new
+ *     hemicube sees them (R_p(C, M) reshot, line 14), elements of C take
+ *     -shot, +total or +unshot as the two hemicubes say (line 17, R_p(C,
+ *     C)). The patches of all surfaces of C are captured before any of
+ *     them shoots, so their order does not matter; what C receives here is
+ *     unshot radiosity the progressive iterations shoot on.
+ *  4. Progressive iterations (desc.frame_shots): R_p(M, M) and the second
+ *     part of R_p(M, C), as thesis 4.4.1 defers them.
+ *
+ * The shooters of C go through the GPU in chunks of at most CHUNK_MAX, each
+ * chunk's hemicubes in two hemicube passes (old, new) of that many layers
+ * blocks, so hemicube memory stays bounded whatever the scene; several
+ * chunks share a command buffer. A scene without dynamic objects allocates
+ * none of this: a frame is then a pose and more progressive iterations.
+ */
+#include <math.h>
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/error.h"
+#include "core/vec.h"
+#include "gpu/cmd.h"
+#include "gpu/context.h"
+#include "incremental_shared.h"
+#include "passes/hemicube.h"
+#include "passes/hemicube_geometry.h"
+#include "passes/incremental_reconstruct.h"
+#include "radiosity.h"
+#include "scene/scene.h"
+#include "solvers/dynamic_patches.h"
+#include "solvers/progressive.h"
+#include "solvers/solver.h"
+
+/* Shooters per chunk: hemicubes per pass. */
+#define CHUNK_MAX 64u
+/* Image memory of one of the two hemicube passes. */
+#define MAX_CHUNK_BYTES (64ull << 20)
+/* Hemicubes per command buffer: a few seconds on lavapipe, well inside the
+ * context's wait limit (as gather.c). */
+#define HEMICUBES_PER_SUBMISSION 2048u
+
+typedef struct incremental {
+    progressive *engine;
+    /* Redistribution state: all zero without dynamic objects. */
+    dynamic_patches dp;
+    uint32_t m_count;    /* shooters of M: the fixed patches, table entries [0, m_count) */
+    uint32_t c_capacity; /* most shooters of C one redistribution makes */
+    uint32_t c_count;    /* this redistribution's, entries [m_count, m_count + c_count) */
+    uint32_t chunk;      /* shooters per chunk */
+    uint32_t chunks_per_submission;
+    uint32_t frame;      /* redistributions so far: varies C's hemicube rotations */
+    hemicube_pass *old_ids, *new_ids;
+    incremental_reconstruct_pass *pass;
+    gpu_buffer prev_vertices; /* gpu_scene_vertex[vertex_count]: the old pose */
+    gpu_buffer shooters;      /* struct gpu_shooter[m_count + c_capacity], device */
+    gpu_buffer staging;       /* the same, host-written, copied in per step */
+    gpu_buffer values;        /* struct incr_value[m_count + c_capacity] */
+    gpu_buffer power;         /* float[surface_count], host-visible */
+} incremental;
+
+static double now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static uint32_t min_u32(uint32_t a, uint32_t b) { return a < b ? a : b; }
+
+static void destroy_state(xrad_solver *s, incremental *inc)
+{
+    incremental_reconstruct_destroy(s->ctx, &inc->pass);
+    hemicube_destroy(s->ctx, &inc->new_ids);
+    hemicube_destroy(s->ctx, &inc->old_ids);
+    gpu_buffer_destroy(s->ctx, &inc->power);
+    gpu_buffer_destroy(s->ctx, &inc->values);
+    gpu_buffer_destroy(s->ctx, &inc->staging);
+    gpu_buffer_destroy(s->ctx, &inc->shooters);
+    gpu_buffer_destroy(s->ctx, &inc->prev_vertices);
+    dynamic_patches_free(&inc->dp);
+}
+
+static void destroy(xrad_solver *s)
+{
+    incremental *inc = s->impl;
+    if (!inc)
+        return;
+    destroy_state(s, inc);
+    progressive_destroy(s, &inc->engine);
+    free(inc);
+    s->impl = NULL;
+}
+
+/* The redistribution's passes and buffers, for a scene with dynamic surfaces. */
+static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *err)
+{
+    struct xrad_context *ctx = s->ctx;
+    const gpu_scene *gs = &s->gs;
+    const xrad_scene *scene = s->scene;
+    xrad_status st = dynamic_patches_build(scene, s->desc.max_patches, &inc->dp, err);
+    if (st)
+        return st;
+    inc->m_count = inc->dp.count;
+    /* The patch rule gives a surface at most max_patches and its element
+     * count per side. */
+    uint32_t mp = s->desc.max_patches;
+    for (uint32_t k = 0; k < scene->surface_count; k++) {
+        const surface *sf = &scene->surfaces[k];
+        if (!scene->objects[sf->object].dynamic)
+            inc->c_capacity += min_u32(sf->nu, mp) * min_u32(sf->nv, mp);
+    }
+    uint32_t most = inc->m_count > inc->c_capacity ? inc->m_count : inc->c_capacity;
+    uint64_t per = 8ull * s->desc.hemicube_res * s->desc.hemicube_res * HEMICUBE_FACES;
+    uint64_t by_memory = MAX_CHUNK_BYTES / per;
+    uint32_t layers = ctx->props.limits.maxImageArrayLayers / HEMICUBE_FACES;
+    inc->chunk = min_u32(min_u32(CHUNK_MAX, most ? most : 1), layers);
+    if (inc->chunk > by_memory)
+        inc->chunk = (uint32_t)by_memory;
+    if (!inc->chunk)
+        inc->chunk = 1;
+    inc->chunks_per_submission = HEMICUBES_PER_SUBMISSION / (2 * inc->chunk);
+    if (!inc->chunks_per_submission)
+        inc->chunks_per_submission = 1;
+
+    uint32_t table = inc->m_count + inc->c_capacity;
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    if ((st = gpu_buffer_create(ctx, (VkDeviceSize)gs->vertex_count * sizeof(gpu_scene_vertex),
+                                VK_BUFFER_USAGE_VERTEX_BUFFER_BIT |
+                                    VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                                GPU_MEM_DEVICE, GPU_MEM_GEOMETRY, &inc->prev_vertices, err)) ||
+        (st = gpu_buffer_create(ctx, (VkDeviceSize)table * sizeof(struct gpu_shooter),
+                                storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEM_DEVICE,
+                                GPU_MEM_RADIOSITY, &inc->shooters, err)) ||
+        (st = gpu_buffer_create(ctx, (VkDeviceSize)table * sizeof(struct gpu_shooter),
+                                VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEM_UPLOAD,
+                                GPU_MEM_STAGING, &inc->staging, err)) ||
+        (st = gpu_buffer_create(ctx, (VkDeviceSize)table * sizeof(struct incr_value), storage,
+                                GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &inc->values, err)) ||
+        (st = gpu_buffer_create(ctx, (VkDeviceSize)gs->surface_count * sizeof(float), storage,
+                                GPU_MEM_READBACK, GPU_MEM_RADIOSITY, &inc->power, err)) ||
+        (st = hemicube_create(ctx, gs, s->desc.hemicube_res, inc->chunk, &inc->old_ids, err)) ||
+        (st = hemicube_create(ctx, gs, s->desc.hemicube_res, inc->chunk, &inc->new_ids, err)))
+        return st;
+    if (!inc->staging.alloc.mapped || !inc->power.alloc.mapped)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                         "incremental solver: host-visible buffers are not mapped");
+    incremental_reconstruct_params params = {
+        .element_count = gs->element_count,
+        .surface_count = gs->surface_count,
+        .hemicube_res = s->desc.hemicube_res,
+        .subdivide_ratio = s->desc.subdivide_ratio,
+    };
+    if ((st = incremental_reconstruct_create(ctx, &params, &inc->pass, err)))
+        return st;
+    incremental_reconstruct_bind(ctx, inc->pass,
+                                 &(incremental_reconstruct_bindings){
+                                     &gs->surfaces, &gs->elements, &gs->materials, &gs->B,
+                                     &gs->Bu, &inc->shooters, &inc->values, &inc->power,
+                                     hemicube_ids_view(inc->old_ids),
+                                     hemicube_ids_view(inc->new_ids)});
+    /* Per command buffer: two updates, and a hemicube and a reconstruct
+     * interval per chunk. */
+    uint32_t intervals = 2 * inc->chunks_per_submission + 4;
+    if (s->timer->capacity < intervals) {
+        gpu_timer_destroy(ctx, &s->timer);
+        if ((st = gpu_timer_create(ctx, intervals, &s->timer, err)))
+            return st;
+    }
+    return XRAD_OK;
+}
+
+static xrad_status create(xrad_solver *s, xrad_error *err)
+{
+    incremental *inc = calloc(1, sizeof(*inc));
+    if (!inc)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "incremental solver: out of host memory");
+    xrad_status st = progressive_create(s, &inc->engine, err);
+    /* Static surfaces' vertices come first: fewer than all means set M is
+     * not empty. */
+    if (!st && s->gs.static_vertex_count < s->gs.vertex_count)
+        st = create_state(s, inc, err);
+    if (st) {
+        destroy_state(s, inc);
+        progressive_destroy(s, &inc->engine);
+        free(inc);
+        return st;
+    }
+    s->impl = inc;
+    return XRAD_OK;
+}
+
+static xrad_status solve(xrad_solver *s, xrad_error *err)
+{
+    incremental *inc = s->impl;
+    xrad_status st = progressive_run(s, inc->engine, true, 0, err);
+    solver_collect_times(s);
+    return st;
+}
+
+/* ------------------------------------------------------ redistribution */
+
+/* Patches along s and t for a surface of C with total power `power`: the
+ * rule of the select pass (spirv/select.comp patch_counts), about
+ * max_patches^2 x power / max_power, shaped to the surface, at most
+ * max_patches and the element count per side. */
+static void patch_counts(const xrad_solver *s, const vec3 c[4], const surface *sf, double power,
+                         double max_power, uint32_t *kx, uint32_t *ky)
+{
+    double lu = 0.5 * (v3_len(v3_sub(c[1], c[0])) + v3_len(v3_sub(c[2], c[3])));
+    double lv = 0.5 * (v3_len(v3_sub(c[3], c[0])) + v3_len(v3_sub(c[2], c[1])));
+    uint32_t mp = s->desc.max_patches;
+    double ratio = power / max_power;
+    double n = (double)(mp * mp) * (ratio < 0 ? 0 : ratio > 1 ? 1 : ratio);
+    double aspect = lu / lv;
+    double ax = ceil(sqrt(n * aspect) - 1e-3), ay = ceil(sqrt(n / aspect) - 1e-3);
+    double mx = min_u32(sf->nu, mp), my = min_u32(sf->nv, mp);
+    *kx = (uint32_t)(ax < 1 ? 1 : ax > mx ? mx : ax);
+    *ky = (uint32_t)(ay < 1 ? 1 : ay > my ? my : ay);
+}
+
+/* The parameter interval covered by samples [i0, i1] of n (scene.h). */
+static void param_range(uint32_t i0, uint32_t i1, uint32_t n, double *lo, double *hi)
+{
+    double h = 1.0 / (n - 1);
+    *lo = fmax(0.0, (i0 - 0.5) * h);
+    *hi = fmin(1.0, (i1 + 0.5) * h);
+}
+
+static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
+
+/* GENERATESHOOTINGPATCHES for every surface of C (Algorithm 4.3 line 8),
+ * the geometry half: patch rectangles, centres, areas and hemicube frames
+ * (the select pass's construction, thesis 4.3.3 and 4.2) into `out`, from
+ * the per-surface total powers of step 1. Surfaces with no power have
+ * nothing to shoot. Returns the count. */
+static uint32_t layout_static_shooters(xrad_solver *s, incremental *inc, const float *power,
+                                       struct gpu_shooter *out)
+{
+    const xrad_scene *scene = s->scene;
+    double max_power = 0;
+    for (uint32_t k = 0; k < scene->surface_count; k++)
+        max_power = power[k] > max_power ? power[k] : max_power;
+    uint32_t n = 0;
+    if (!(max_power > 0))
+        return 0;
+    for (uint32_t k = 0; k < scene->surface_count; k++) {
+        const surface *sf = &scene->surfaces[k];
+        if (scene->objects[sf->object].dynamic || !(power[k] > 0))
+            continue;
+        vec3 c[4], normal;
+        scene_surface_world(scene, k, s->gs.time, c, &normal);
+        uint32_t kx, ky;
+        patch_counts(s, c, sf, power[k], max_power, &kx, &ky);
+        vec3 u = v3_sub(c[1], c[0]);
+        vec3 u0 = v3_norm(v3_sub(u, v3_scale(normal, v3_dot(u, normal))));
+        for (uint32_t py = 0; py < ky; py++) {
+            for (uint32_t px = 0; px < kx && n < inc->c_capacity; px++) {
+                uint32_t i0 = px * sf->nu / kx, i1 = (px + 1) * sf->nu / kx - 1;
+                uint32_t j0 = py * sf->nv / ky, j1 = (py + 1) * sf->nv / ky - 1;
+                double area = 0;
+                for (uint32_t j = j0; j <= j1; j++)
+                    for (uint32_t i = i0; i <= i1; i++)
+                        area += scene->elements[sf->first_element + j * sf->nu + i].area;
+                double s0, s1, t0, t1;
+                param_range(i0, i1, sf->nu, &s0, &s1);
+                param_range(j0, j1, sf->nv, &t0, &t1);
+                double ms = 0.5 * (s0 + s1), mt = 0.5 * (t0 + t1);
+                vec3 centre = v3_lerp(v3_lerp(c[0], c[1], ms), v3_lerp(c[3], c[2], ms), mt);
+                /* A fresh rotation per redistribution (thesis 4.2); the
+                 * old and new hemicubes of a patch share it, so that they
+                 * differ only where M moved. */
+                mat3 r = m3_rotation(normal, hemicube_rotation(s->desc.seed * 0x9e3779b9u +
+                                                               inc->frame * 0x85ebca6bu +
+                                                               0x3c6ef372u + n));
+                out[n] = (struct gpu_shooter){
+                    .pos_area = to_vec4(centre, area),
+                    .normal = to_vec4(normal, 0),
+                    .tangent = to_vec4(m3_apply(&r, u0), 0),
+                    .surface = k,
+                    .i0 = i0,
+                    .i1 = i1,
+                    .j0 = j0,
+                    .j1 = j1,
+                    .hemicube = n % inc->chunk,
+                };
+                n++;
+            }
+        }
+    }
+    return n;
+}
+
+/* What the previous steps wrote (B, Bu, values, hemicube images) is
+ * visible to the compute step that follows. */
+static void compute_barrier(VkCommandBuffer cmd)
+{
+    gpu_memory_barrier(cmd,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT |
+                           VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
+                       VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
+/* Copies the host's shooters [first, first + count) into the table (and,
+ * for the old pose, the vertices), before the hemicubes' vertex stages and
+ * the compute steps read them. */
+static void record_upload(xrad_solver *s, incremental *inc, VkCommandBuffer cmd, uint32_t first,
+                          uint32_t count, bool vertices)
+{
+    if (vertices) {
+        VkBufferCopy v = {0, 0, (VkDeviceSize)s->gs.vertex_count * sizeof(gpu_scene_vertex)};
+        vkCmdCopyBuffer(cmd, s->gs.vertices.buffer, inc->prev_vertices.buffer, 1, &v);
+    }
+    if (count) {
+        VkDeviceSize at = (VkDeviceSize)first * sizeof(struct gpu_shooter);
+        VkBufferCopy r = {at, at, (VkDeviceSize)count * sizeof(struct gpu_shooter)};
+        vkCmdCopyBuffer(cmd, inc->staging.buffer, inc->shooters.buffer, 1, &r);
+    }
+    gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_VERTEX_SHADER_BIT |
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                       VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+}
+
+/* One chunk, shooters [first, first + n): its ID hemicubes and the
+ * reconstruction. NEGATIVE: M's patches at the old pose (the vertex buffer
+ * still holds it); INCREMENT: C's patches, old vertices and new. The
+ * render pass orders each hemicube image after the previous chunk's
+ * reconstruction read it. */
+static void record_chunk(xrad_solver *s, incremental *inc, VkCommandBuffer cmd, uint32_t mode,
+                         uint32_t first, uint32_t n)
+{
+    hemicube_draw d = {
+        .vertices = &s->gs.vertices,
+        .vertex_count = s->gs.vertex_count,
+        .frames = &inc->shooters,
+        .first = first,
+        .count = n,
+    };
+    gpu_timer_begin(s->timer, cmd, "incr.hemicube");
+    if (mode == INCR_MODE_INCREMENT) {
+        /* Lines 11-12: the same frame with the old geometry of M and the new. */
+        hemicube_draw old = d;
+        old.vertices = &inc->prev_vertices;
+        hemicube_record(inc->old_ids, cmd, &old);
+        hemicube_record(inc->new_ids, cmd, &d);
+        s->stats.hemicubes += 2 * n;
+    } else {
+        hemicube_record(inc->old_ids, cmd, &d);
+        s->stats.hemicubes += n;
+    }
+    gpu_timer_end(s->timer, cmd);
+    compute_barrier(cmd);
+    gpu_timer_begin(s->timer, cmd, "incr.reconstruct");
+    incremental_reconstruct_record(inc->pass, cmd, mode, first, n);
+    gpu_timer_end(s->timer, cmd);
+}
+
+/* Ends, submits and waits for a command buffer, then reads its timers. */
+static xrad_status finish(xrad_solver *s, gpu_cmd *c, xrad_error *err)
+{
+    /* B, Bu, the powers and the copied vertices are complete for the host
+     * and for later submissions (the pose upload, the progressive
+     * iterations, gpu_scene_read). */
+    gpu_memory_barrier(c->cmd,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                       VK_ACCESS_HOST_READ_BIT | VK_ACCESS_MEMORY_READ_BIT |
+                           VK_ACCESS_MEMORY_WRITE_BIT);
+    xrad_status st = gpu_cmd_submit(s->ctx, c, err);
+    if (!st) {
+        s->stats.submissions++;
+        st = gpu_cmd_wait(s->ctx, c, err);
+        s->stats.host_waits++;
+    }
+    gpu_cmd_destroy(s->ctx, c);
+    return st ? st : gpu_timer_collect(s->ctx, s->timer, err);
+}
+
+/* Shoots table entries [first, first + count) in chunks, as many chunks per
+ * command buffer as HEMICUBES_PER_SUBMISSION allows. The first command
+ * buffer starts with the step's preparation (upload, capture of what the
+ * shooters shoot, and for INCREMENT the reset); NEGATIVE ends with the
+ * static surfaces' total powers, once C has lost M's shot radiosity. */
+static xrad_status shoot(xrad_solver *s, incremental *inc, uint32_t mode, uint32_t first,
+                         uint32_t count, xrad_error *err)
+{
+    uint32_t done = 0;
+    bool prepare = true;
+    do {
+        gpu_cmd c;
+        xrad_status st = gpu_cmd_begin(s->ctx, &c, err);
+        if (st)
+            return st;
+        gpu_timer_start(s->timer, c.cmd);
+        if (prepare) {
+            gpu_timer_begin(s->timer, c.cmd, "incr.upload");
+            record_upload(s, inc, c.cmd, first, count, mode == INCR_MODE_NEGATIVE);
+            gpu_timer_end(s->timer, c.cmd);
+            gpu_timer_begin(s->timer, c.cmd, "incr.update");
+            /* Line 8 (and line 4's shot radiosity): every shooter's values
+             * before any of this step's shots changes B or Bu. */
+            incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_CAPTURE, first, count);
+            if (mode == INCR_MODE_INCREMENT) {
+                /* Lines 6 and 9, after the capture read C's Bu. */
+                compute_barrier(c.cmd);
+                incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_RESET, 0, 0);
+            }
+            gpu_timer_end(s->timer, c.cmd);
+            prepare = false;
+        }
+        for (uint32_t k = 0; k < inc->chunks_per_submission && done < count; k++) {
+            uint32_t n = min_u32(inc->chunk, count - done);
+            record_chunk(s, inc, c.cmd, mode, first + done, n);
+            done += n;
+        }
+        if (done == count && mode == INCR_MODE_NEGATIVE) {
+            compute_barrier(c.cmd);
+            gpu_timer_begin(s->timer, c.cmd, "incr.power");
+            incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_POWER, 0, 0);
+            gpu_timer_end(s->timer, c.cmd);
+        }
+        if ((st = finish(s, &c, err)))
+            return st;
+    } while (done < count);
+    return XRAD_OK;
+}
+
+/* Steps 1-3 of the header: from the solution at the current pose to one
+ * at `time` with unshot radiosity left for the progressive iterations. */
+static xrad_status redistribute(xrad_solver *s, incremental *inc, double time, xrad_error *err)
+{
+    struct xrad_context *ctx = s->ctx;
+    struct gpu_shooter *host = inc->staging.alloc.mapped;
+    /* Step 1: M's front frames at the old pose, what the ID hemicubes of
+     * line 4 are placed on. */
+    dynamic_patches_pose(s->scene, &inc->dp, s->gs.time, s->desc.seed, host, NULL, NULL, NULL);
+    for (uint32_t p = 0; p < inc->m_count; p++)
+        host[p].hemicube = p % inc->chunk;
+    xrad_status st = shoot(s, inc, INCR_MODE_NEGATIVE, 0, inc->m_count, err);
+    if (st)
+        return st;
+    /* The GPU is done: the powers are readable and the geometry may be
+     * replaced. The pose upload's one-shot copies are submissions the host
+     * waits for: count them from the context's submission counter. */
+    inc->c_count = layout_static_shooters(s, inc, inc->power.alloc.mapped, host + inc->m_count);
+    uint64_t before = ctx->timeline_value;
+    st = gpu_scene_pose(ctx, &s->gs, time, err);
+    s->stats.submissions += (uint32_t)(ctx->timeline_value - before);
+    s->stats.host_waits += (uint32_t)(ctx->timeline_value - before);
+    if (st)
+        return st;
+    /* Steps 2-3. */
+    st = shoot(s, inc, INCR_MODE_INCREMENT, inc->m_count, inc->c_count, err);
+    inc->frame++;
+    return st;
+}
+
+static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
+{
+    incremental *inc = s->impl;
+    double t0 = now_ms();
+    xrad_status st;
+    if (inc->m_count) {
+        st = redistribute(s, inc, time, err);
+    } else {
+        /* Nothing moves: the solution stays valid at the new time. */
+        uint64_t before = s->ctx->timeline_value;
+        st = gpu_scene_pose(s->ctx, &s->gs, time, err);
+        s->stats.submissions += (uint32_t)(s->ctx->timeline_value - before);
+        s->stats.host_waits += (uint32_t)(s->ctx->timeline_value - before);
+    }
+    s->stats.redistribute_ms = now_ms() - t0;
+    /* Step 4 (thesis 4.4.1 "Overview"): R_p(M, M) and the second part of
+     * R_p(M, C) are regular progressive shots of the unshot radiosity. */
+    if (!st)
+        st = progressive_run(s, inc->engine, false, s->desc.frame_shots, err);
+    solver_collect_times(s);
+    return st;
+}
+
+const solver_ops incremental_ops = {create, solve, destroy, advance};

@@ -1,0 +1,35 @@
+/*
+ * The progressive refinement engine (thesis 4.3, Algorithm 4.2) as a part
+ * other solvers build on: the progressive method itself, and the dynamic
+ * methods, which continue with progressive iterations after each
+ * redistribution (thesis 4.4.2, 4.5.3). It works on the solver's gpu_scene
+ * (B, Bu) and adds its counters to the solver's stats.
+ */
+#ifndef XRAD_SOLVERS_PROGRESSIVE_H
+#define XRAD_SOLVERS_PROGRESSIVE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "xrad.h"
+
+struct xrad_solver;
+
+typedef struct progressive progressive;
+
+/* Passes and buffers for the solver's scene and settings (hemicube_res,
+ * batch, max_patches, subdivide_ratio, threshold, seed). May grow the
+ * solver's timer. */
+xrad_status progressive_create(struct xrad_solver *s, progressive **out, xrad_error *err);
+/* Accepts NULL and *p == NULL; sets *p to NULL. The GPU must be done with it. */
+void progressive_destroy(struct xrad_solver *s, progressive **p);
+
+/* restart: B = Bu = E, then shoot. Otherwise continue from the B and Bu in
+ * hand, with the threshold still relative to the largest power of the
+ * last restart (the emitted power). Shoots until the largest unshot power
+ * falls to the threshold, or max_shots selections (0: no limit but
+ * desc.max_iterations in all since the restart). */
+xrad_status progressive_run(struct xrad_solver *s, progressive *p, bool restart,
+                            uint32_t max_shots, xrad_error *err);
+
+#endif
