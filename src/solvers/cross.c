@@ -72,6 +72,8 @@ typedef struct cross {
     gpu_buffer shot;          /* vec4[element_count]: B - Bu of C, 0 on M */
     gpu_buffer frames;        /* gpu_shooter[2 slots][3 tables][P], host-written */
     gpu_buffer quads;         /* struct cross_quad[2 slots][P], host-written */
+    double diameter;          /* m, the scale of the hemicubes' near plane and distances,
+                                 fixed at create (the posed scene's diameter changes) */
     uint32_t slot;            /* the slot holding the pose in hand */
     bool cached;              /* ids[slot] and back[slot] were rendered at the pose in hand */
     double scale;
@@ -120,7 +122,7 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
     const gpu_scene *gs = &s->gs;
     const xrad_solver_desc *d = &s->desc;
     uint32_t P = c->P;
-    double diameter = gs->diameter > 0 ? gs->diameter : 1.0;
+    double diameter = c->diameter = gs->diameter > 0 ? gs->diameter : 1.0;
     hemicube_desc ids = {.kind = HEMICUBE_IDS, .res = d->hemicube_res, .max_hemicubes = P,
                          .msaa = 1, .path = HEMICUBE_PATH_AUTO, .diameter = diameter};
     hemicube_desc back = {.kind = HEMICUBE_RADIOSITY, .res = d->back_res, .max_hemicubes = P,
@@ -357,7 +359,7 @@ static void record_redistribution(xrad_solver *s, cross *c, VkCommandBuffer cmd,
                                  .new_slot = slot,
                                  .subdivide_ratio = s->desc.subdivide_ratio,
                                  .back_scale = c->scale,
-                                 .diameter = gs->diameter > 0 ? gs->diameter : 1.0,
+                                 .diameter = c->diameter,
                              });
     gpu_timer_end(s->timer, cmd);
 }

@@ -166,6 +166,20 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
         (st = hemicube_create(ctx, gs, s->desc.hemicube_res, inc->chunk, &inc->old_ids, err)) ||
         (st = hemicube_create(ctx, gs, s->desc.hemicube_res, inc->chunk, &inc->new_ids, err)))
         return st;
+    /* Every dispatch of the reconstruct pass binds both hemicube images,
+     * also where only the old pose's was drawn (NEGATIVE): an empty
+     * recording puts all their layers in SHADER_READ_ONLY_OPTIMAL, where
+     * every later recording leaves them. */
+    gpu_cmd c;
+    if ((st = gpu_cmd_begin(ctx, &c, err)))
+        return st;
+    hemicube_draw none = {.vertices = &gs->vertices, .frames = &inc->shooters};
+    hemicube_record(inc->old_ids, c.cmd, &none);
+    hemicube_record(inc->new_ids, c.cmd, &none);
+    st = gpu_cmd_run(ctx, &c, err);
+    gpu_cmd_destroy(ctx, &c);
+    if (st)
+        return st;
     if (!inc->staging.alloc.mapped || !inc->power.alloc.mapped)
         return xrad_fail(err, XRAD_ERROR_SYSTEM,
                          "incremental solver: host-visible buffers are not mapped");
@@ -265,6 +279,7 @@ static uint32_t layout_static_shooters(xrad_solver *s, incremental *inc, const f
     double max_power = 0;
     for (uint32_t k = 0; k < scene->surface_count; k++)
         max_power = power[k] > max_power ? power[k] : max_power;
+    if (getenv("DBG_MAXP")) max_power *= atof(getenv("DBG_MAXP"));
     uint32_t n = 0;
     if (!(max_power > 0))
         return 0;
@@ -421,9 +436,7 @@ static xrad_status shoot(xrad_solver *s, incremental *inc, uint32_t mode, uint32
             return st;
         gpu_timer_start(s->timer, c.cmd);
         if (prepare) {
-            gpu_timer_begin(s->timer, c.cmd, "incr.upload");
             record_upload(s, inc, c.cmd, first, count, mode == INCR_MODE_NEGATIVE);
-            gpu_timer_end(s->timer, c.cmd);
             gpu_timer_begin(s->timer, c.cmd, "incr.update");
             /* Line 8 (and line 4's shot radiosity): every shooter's values
              * before any of this step's shots changes B or Bu. */
@@ -443,7 +456,7 @@ static xrad_status shoot(xrad_solver *s, incremental *inc, uint32_t mode, uint32
         }
         if (done == count && mode == INCR_MODE_NEGATIVE) {
             compute_barrier(c.cmd);
-            gpu_timer_begin(s->timer, c.cmd, "incr.power");
+            gpu_timer_begin(s->timer, c.cmd, "incr.update");
             incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_POWER, 0, 0);
             gpu_timer_end(s->timer, c.cmd);
         }
