@@ -24,6 +24,11 @@ struct gpu_surface {
     vec4 normal_area; /* world unit normal, area m^2 */
     uint first_element, nu, nv, material;
     uint object, dynamic, tile_x, tile_y;
+    /* Shooting patches along s and t when this surface shoots (select
+     * pass); 0: the power decides (dynamic shooter subdivision, thesis
+     * 4.3.3). The dynamic methods fix them on the surfaces of M to the
+     * layout their redistribution removes with (solvers/dynamic_patches.h). */
+    uint patches_s, patches_t, pad0, pad1;
 };
 
 struct gpu_element {

@@ -54,12 +54,17 @@ vec2 param_range(uint i0, uint i1, uint n)
     return vec2(max(0.0, (float(i0) - 0.5) * h), min(1.0, (float(i1) + 0.5) * h));
 }
 
-// Patches along s and t: about max_patches^2 x power / max_power in all
+// Patches along s and t: the surface's fixed patches where it has them (the
+// dynamic methods' surfaces of M, so that what their redistribution removes
+// is what was shot, thesis 3.3.4), else about max_patches^2 x power /
+// max_power in all
 // (so that every patch carries at most about the power of one patch of the
 // brightest shot), shaped to the surface's aspect, at most max_patches and
 // the element count per side, at most max_shooters in all.
 uvec2 patch_counts(gpu_surface sf, float power, float max_power)
 {
+    if (sf.patches_s != 0u && sf.patches_s * sf.patches_t <= pc.max_shooters)
+        return uvec2(sf.patches_s, sf.patches_t);
     float lu = 0.5 * (distance(sf.corner[0].xyz, sf.corner[1].xyz) + distance(sf.corner[3].xyz, sf.corner[2].xyz));
     float lv = 0.5 * (distance(sf.corner[0].xyz, sf.corner[3].xyz) + distance(sf.corner[1].xyz, sf.corner[2].xyz));
     float n = float(pc.max_patches * pc.max_patches) * clamp(power / max_power, 0.0, 1.0);

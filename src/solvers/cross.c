@@ -189,8 +189,9 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "cross solver: out of host memory");
     s->impl = c;
     xrad_status st;
-    if ((st = progressive_create(s, &c->prog, err)) ||
-        (st = dynamic_patches_build(s->scene, s->desc.max_patches, &c->dp, err)))
+    if ((st = dynamic_patches_build(s->scene, s->desc.max_patches, &c->dp, err)) ||
+        (c->dp.count && (st = dynamic_patches_fix(s->ctx, &s->gs, &c->dp, err))) ||
+        (st = progressive_create(s, &c->prog, err)))
         goto fail;
     c->P = c->dp.count;
     /* A scene without dynamic objects needs no redistribution state. */

@@ -92,6 +92,25 @@ void dynamic_patches_free(dynamic_patches *dp)
     memset(dp, 0, sizeof(*dp));
 }
 
+xrad_status dynamic_patches_fix(struct xrad_context *ctx, gpu_scene *gs,
+                                const dynamic_patches *dp, xrad_error *err)
+{
+    uint32_t n = gs->surface_count ? gs->surface_count : 1;
+    uint32_t *counts = calloc(2 * (size_t)n, sizeof(uint32_t));
+    if (!counts)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "patches: out of host memory");
+    for (uint32_t s = 0; s < gs->surface_count; s++) {
+        uint32_t p = dp->surface_patch[s];
+        if (p != DYNAMIC_PATCH_NONE) {
+            counts[2 * s] = dp->patches[p].cx;
+            counts[2 * s + 1] = dp->patches[p].cy;
+        }
+    }
+    xrad_status st = gpu_scene_fix_patches(ctx, gs, counts, err);
+    free(counts);
+    return st;
+}
+
 static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
 
 static vec3 bilinear(const vec3 c[4], double u, double v)

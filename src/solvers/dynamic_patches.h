@@ -17,6 +17,7 @@
 #include "cross_shared.h"
 #include "radiosity.h"
 #include "scene/scene.h"
+#include "solvers/gpu_scene.h"
 #include "xrad.h"
 
 #define DYNAMIC_PATCH_NONE 0xffffffffu
@@ -35,6 +36,13 @@ xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
                                   dynamic_patches *out, xrad_error *err);
 /* Accepts a zeroed struct; zeroes it. */
 void dynamic_patches_free(dynamic_patches *dp);
+
+/* Shoots M with this layout in progressive iterations too: the select pass
+ * then cuts every dynamic surface into the same blocks, so that what a
+ * redistribution removes with these patches is what was shot, block for
+ * block (gpu_scene_fix_patches). Call before progressive_create. */
+xrad_status dynamic_patches_fix(struct xrad_context *ctx, gpu_scene *gs,
+                                const dynamic_patches *dp, xrad_error *err);
 
 /* The patches posed at scene time t, each array [count] (any may be
  * NULL): front hemicube frames (patch centre, surface normal; tangent the

@@ -29,8 +29,8 @@ static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (f
 /* Buffers cannot be empty; a scene without surfaces still gets one entry. */
 static size_t at_least_one(size_t n) { return n ? n : 1; }
 
-static xrad_status fill_geometry(const xrad_scene *scene, double time, geometry *g,
-                                 double *diameter, xrad_error *err)
+static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_patches,
+                                 double time, geometry *g, double *diameter, xrad_error *err)
 {
     memset(g, 0, sizeof(*g));
     g->surfaces = calloc(at_least_one(scene->surface_count), sizeof(*g->surfaces));
@@ -70,6 +70,10 @@ static xrad_status fill_geometry(const xrad_scene *scene, double time, geometry 
         gsf->dynamic = scene->objects[sf->object].dynamic ? 1u : 0u;
         gsf->tile_x = sf->tile_x;
         gsf->tile_y = sf->tile_y;
+        if (fixed_patches) {
+            gsf->patches_s = fixed_patches[2 * s];
+            gsf->patches_t = fixed_patches[2 * s + 1];
+        }
 
         for (uint32_t e = 0; e < sf->nu * sf->nv; e++) {
             const element *el = &scene->elements[sf->first_element + e];
@@ -117,7 +121,7 @@ static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, doub
     const xrad_scene *scene = gs->scene;
     geometry g;
     double diameter = 0;
-    xrad_status s = fill_geometry(scene, time, &g, &diameter, err);
+    xrad_status s = fill_geometry(scene, gs->fixed_patches, time, &g, &diameter, err);
     if (s)
         return s;
     if (!(s = gpu_upload_buffer(ctx, &gs->surfaces, 0, g.surfaces,
@@ -244,10 +248,24 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
     return XRAD_OK;
 }
 
+xrad_status gpu_scene_fix_patches(struct xrad_context *ctx, gpu_scene *gs,
+                                  const uint32_t *patches, xrad_error *err)
+{
+    size_t bytes = 2 * (size_t)(gs->surface_count ? gs->surface_count : 1) * sizeof(uint32_t);
+    uint32_t *copy = malloc(bytes);
+    if (!copy)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "GPU scene: out of host memory");
+    memcpy(copy, patches, 2 * (size_t)gs->surface_count * sizeof(uint32_t));
+    free(gs->fixed_patches);
+    gs->fixed_patches = copy;
+    return upload_geometry(ctx, gs, gs->time, err);
+}
+
 void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
 {
     if (!gs)
         return;
+    free(gs->fixed_patches);
     gpu_image_destroy(ctx, &gs->atlas);
     gpu_buffer_destroy(ctx, &gs->vertices);
     gpu_buffer_destroy(ctx, &gs->Bu);

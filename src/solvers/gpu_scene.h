@@ -47,6 +47,7 @@ typedef struct gpu_scene {
                                   written by the atlas scatter pass (passes/atlas_scatter.h);
                                   always in VK_IMAGE_LAYOUT_GENERAL (zero after create) */
     double diameter;           /* m, bounding-box diagonal of the scene at `time` */
+    uint32_t *fixed_patches;   /* NULL, or 2 per surface: gpu_surface.patches_s, patches_t */
 } gpu_scene;
 
 /* Uploads the scene posed at `time`, with B = Bu = E. */
@@ -60,6 +61,11 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs);
  * B and Bu are kept. The GPU must not be using those buffers. */
 xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
                            xrad_error *err);
+
+/* Fixes the shooting patches (s, t counts, 2 per surface; 0 0: by power)
+ * the select pass uses for each surface, from now on and at every pose. */
+xrad_status gpu_scene_fix_patches(struct xrad_context *ctx, gpu_scene *gs,
+                                  const uint32_t *patches, xrad_error *err);
 
 /* B = Bu = E for every element. */
 xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err);

@@ -279,7 +279,6 @@ static uint32_t layout_static_shooters(xrad_solver *s, incremental *inc, const f
     double max_power = 0;
     for (uint32_t k = 0; k < scene->surface_count; k++)
         max_power = power[k] > max_power ? power[k] : max_power;
-    if (getenv("DBG_MAXP")) max_power *= atof(getenv("DBG_MAXP"));
     uint32_t n = 0;
     if (!(max_power > 0))
         return 0;

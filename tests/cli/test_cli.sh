@@ -93,6 +93,18 @@ checks=$((checks + 1)); [ "$n" -eq 4 ] || { fails=$((fails + 1)); echo "FAIL: $n
 expect 0 "render at the last frame's time" -- "$xrad" render "$tmp/tiny.json" --method progressive --time 0.5 --exr "$tmp/at.exr" --quiet
 expect 0 "compare frames" -- "$xrad" compare "$tmp/last.exr" "$tmp/at.exr"
 expect_text "$tmp/out" "^nrmse 0.0000000$" "the last frame is the pose at N / fps"
+# dynamic methods redistribute frame to frame and end near a fresh solve
+for m in incremental cross; do
+    rm -rf "$tmp/frames"
+    expect 0 "$m frames" -- "$xrad" render "$tmp/tiny.json" --method $m --frames 3 --fps 6 --frame-out "$tmp/frames" --exr "$tmp/$m.exr"
+    expect_text "$tmp/out" "redistribution" "$m reports its redistribution time"
+    n=$(ls "$tmp/frames" | grep -c '^frame-000[0-3].png$')
+    checks=$((checks + 1)); [ "$n" -eq 4 ] || { fails=$((fails + 1)); echo "FAIL: $m: $n frame files, want 4"; }
+    expect 0 "compare $m" -- "$xrad" compare "$tmp/$m.exr" "$tmp/at.exr"
+    checks=$((checks + 1))
+    awk '/^nrmse/ { exit !($2 < 0.02) }' "$tmp/out" ||
+        { fails=$((fails + 1)); echo "FAIL: $m after 3 frames: $(cat "$tmp/out") vs a fresh solve"; }
+done
 
 # GPU methods on the tiny scene, and GPU failures: exit 2 with the call named
 expect 0 "render progressive" -- "$xrad" render "$tmp/tiny.json" --method progressive --exr "$tmp/pr.exr" --quiet

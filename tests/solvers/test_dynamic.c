@@ -3,9 +3,10 @@
  *  - move: converged at pose A, one redistribution to pose B plus
  *    progressive iterations equals a fresh progressive solve at B (image
  *    NRMSE < 0.01 on cornell-large and cornell-small, whose turning box
- *    changes the picture little), and on a box sliding through a room it
- *    reproduces most of the change A -> B (a method that did nothing would
- *    not);
+ *    changes the picture little); on a box (and, in a second scene, two
+ *    objects) sliding through a room it reproduces most of the change A ->
+ *    B (a method that did nothing would not) and is as near the CPU
+ *    reference as the fresh solve;
  *  - sign: a black occluder entering between a light and a floor (only
  *    R_x(C, C) is non-zero) darkens the floor by what the CPU reference
  *    says, within 5% (cross), or as much as a fresh progressive solve
@@ -30,6 +31,24 @@ static float *render(xrad_context *ctx, const xrad_scene *scene, xrad_solver *s,
               xrad_solver_read(s, &a, &err) == XRAD_OK &&
               xrad_render_view(ctx, scene, &a, &v, &img, w, h, &err) == XRAD_OK,
           "render: %s", err.message);
+    xrad_atlas_destroy(&a);
+    return img;
+}
+
+/* The CPU reference solution at scene time t, rendered as render() does. */
+static float *reference_image(xrad_context *ctx, const xrad_scene *scene, double t, uint32_t w,
+                              uint32_t h)
+{
+    xrad_error err = {0};
+    xrad_atlas a = {0};
+    float *img = NULL;
+    uint32_t iw, ih;
+    xrad_reference_desc d = {.time = t, .rays = 32, .residual = 1e-7};
+    xrad_view_desc v = {.time = t, .width = w, .height = h};
+    CHECK(xrad_atlas_create(scene, &a, &err) == XRAD_OK &&
+              xrad_reference_solve(scene, &d, &a, NULL, &err) == XRAD_OK &&
+              xrad_render_view(ctx, scene, &a, &v, &img, &iw, &ih, &err) == XRAD_OK,
+          "reference: %s", err.message);
     xrad_atlas_destroy(&a);
     return img;
 }
@@ -76,6 +95,31 @@ static const char *slide_json =
     " \"camera\": {\"position\": [0.5, 0.5, 0.02], \"look_at\": [0.5, 0.5, 1],"
     "   \"fov_degrees\": 70, \"width\": 64, \"height\": 64}}";
 
+/* The same room with two dynamic objects: a second, flat box slides the
+ * other way under the light. */
+static const char *two_json =
+    "{\"unit\": \"m\", \"density\": 12,"
+    " \"materials\": [{\"name\": \"white\", \"albedo\": [0.6, 0.6, 0.6]},"
+    "   {\"name\": \"red\", \"albedo\": [0.7, 0.2, 0.1]},"
+    "   {\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [20, 20, 20]}],"
+    " \"objects\": [{\"name\": \"room\", \"surfaces\": ["
+    "   {\"name\": \"walls\", \"material\": \"white\", \"box\": {\"origin\": [0, 0, 0],"
+    "     \"u\": [1, 0, 0], \"v\": [0, 1, 0], \"w\": [0, 0, 1]}, \"inward\": true},"
+    "   {\"name\": \"light\", \"material\": \"lamp\", \"quad\": {\"origin\": [0.4, 0.99, 0.4],"
+    "     \"u\": [0.2, 0, 0], \"v\": [0, 0, 0.2]}}]},"
+    "  {\"name\": \"box\", \"dynamic\": true, \"cross_density\": 8, \"surfaces\": ["
+    "   {\"name\": \"b\", \"material\": \"white\", \"box\": {\"origin\": [0.2, 0.05, 0.35],"
+    "     \"u\": [0.25, 0, 0], \"v\": [0, 0.3, 0], \"w\": [0, 0, 0.25]}}],"
+    "   \"animation\": {\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]},"
+    "     {\"time\": 1, \"translate\": [0.3, 0, 0]}], \"loop\": false}},"
+    "  {\"name\": \"slab\", \"dynamic\": true, \"cross_density\": 8, \"surfaces\": ["
+    "   {\"name\": \"s\", \"material\": \"red\", \"box\": {\"origin\": [0.6, 0.5, 0.6],"
+    "     \"u\": [0.25, 0, 0], \"v\": [0, 0.04, 0], \"w\": [0, 0, 0.25]}}],"
+    "   \"animation\": {\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]},"
+    "     {\"time\": 1, \"translate\": [-0.35, 0, -0.2]}], \"loop\": false}}],"
+    " \"camera\": {\"position\": [0.5, 0.5, 0.02], \"look_at\": [0.5, 0.5, 1],"
+    "   \"fov_degrees\": 70, \"width\": 64, \"height\": 64}}";
+
 /* Converge at ta, redistribute to tb; against a fresh progressive solve at
  * tb. With `followed`, the result must also be much nearer the fresh
  * solution than the unmoved one is (where the move changes the picture
@@ -85,15 +129,15 @@ static void move_test(xrad_context *ctx, const char *rel, xrad_method m, double 
 {
     xrad_error perr = {0};
     xrad_scene *scene = NULL;
-    if (rel)
+    if (strstr(rel, "scenes/") == rel)
         scene = load(rel);
     else
-        CHECK(xrad_scene_parse(slide_json, strlen(slide_json), "slide.json", &scene, &perr) ==
-                  XRAD_OK,
+        CHECK(xrad_scene_parse(strcmp(rel, "two.json") ? slide_json : two_json,
+                               strlen(strcmp(rel, "two.json") ? slide_json : two_json), rel,
+                               &scene, &perr) == XRAD_OK,
               "%s", perr.message);
     if (!scene)
         return;
-    rel = rel ? rel : "slide.json";
     xrad_error err = {0};
     uint32_t w, h;
     xrad_solver *s = solver_at(ctx, scene, m, ta);
@@ -112,14 +156,29 @@ static void move_test(xrad_context *ctx, const char *rel, xrad_method m, double 
                             "(unmoved %.5f), %u hemicubes, redistribution %.1f ms of %.1f ms\n",
                     rel, xrad_method_name(m), ta, tb, e, stale, st.hemicubes,
                     st.redistribute_ms, st.wall_ms);
-            /* The slide scene's image is dominated by the lit box top,
-             * which the cross method resolves at its cross_density: a
-             * looser bound there, and the solution must have followed the
-             * box (most of the difference between the poses gone). */
-            CHECK(e < (followed ? 0.02 : 0.01), "%s %s: NRMSE %.5f", rel, xrad_method_name(m), e);
-            if (followed)
+            /* On the shipped scenes the issue's bound. The box sliding
+             * through a small room changes the picture far more; there the
+             * solution must have followed it (most of the difference
+             * between the poses gone) and be as near the CPU reference as
+             * a fresh progressive solve is (which itself is 0.019 from it:
+             * the near-field transfer under the box). */
+            if (!followed) {
+                CHECK(e < 0.01, "%s %s: NRMSE %.5f", rel, xrad_method_name(m), e);
+            } else {
                 CHECK(e < 0.5 * stale, "%s %s: NRMSE %.5f, unmoved %.5f", rel,
                       xrad_method_name(m), e, stale);
+                float *ref = reference_image(ctx, scene, tb, w, h);
+                if (ref) {
+                    double em = xrad_image_nrmse(moved, ref, w, h);
+                    double ef = xrad_image_nrmse(want, ref, w, h);
+                    fprintf(stderr, "move %s %s: NRMSE vs the CPU reference %.5f, fresh "
+                                    "progressive %.5f\n",
+                            rel, xrad_method_name(m), em, ef);
+                    CHECK(em < 1.25 * ef + 1e-3, "%s %s: NRMSE vs reference %.5f, progressive "
+                          "%.5f", rel, xrad_method_name(m), em, ef);
+                }
+                free(ref);
+            }
         }
         free(at_a);
         free(moved);
@@ -302,7 +361,8 @@ int main(void)
         /* 45 degrees of the box's turn: the largest change of a square box. */
         move_test(ctx, "scenes/cornell-large.json", m, 0, 2.25, false);
         move_test(ctx, "scenes/cornell-small.json", m, 0, 2.25, false);
-        move_test(ctx, NULL, m, 0, 1, true);
+        move_test(ctx, "slide.json", m, 0, 1, true);
+        move_test(ctx, "two.json", m, 0, 1, true);
         sign_test(ctx, m);
         symmetry_test(ctx, "scenes/cornell-large.json", m, 0, 2.25);
         static_scene_test(ctx, m);
