@@ -26,9 +26,13 @@ struct gpu_surface {
     uint object, dynamic, tile_x, tile_y;
     /* Shooting patches along s and t when this surface shoots (select
      * pass); 0: the power decides (dynamic shooter subdivision, thesis
-     * 4.3.3). The dynamic methods fix them on the surfaces of M to the
-     * layout their redistribution removes with (solvers/dynamic_patches.h). */
-    uint patches_s, patches_t, pad0, pad1;
+     * 4.3.3). The dynamic methods fix them to the layout their
+     * redistribution removes with (solvers/dynamic_patches.h), and
+     * patch_first numbers the surface's first patch in that layout: patch
+     * k of the surface turns its hemicube by patch_rotation(seed,
+     * patch_first + k) whoever shoots it, so that removal and insertion
+     * see through the same hemicube texels. */
+    uint patches_s, patches_t, patch_first, pad0;
 };
 
 struct gpu_element {

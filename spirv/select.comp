@@ -163,7 +163,11 @@ void main()
             }
         }
         vec2 rs = param_range(i0, i1, sf.nu), rt = param_range(j0, j1, sf.nv);
-        float angle = float(lowbias32(pc.seed * 0x9e3779b9u + s_first_patch + k)) * (TWO_PI / 4294967296.0);
+        // A fixed patch turns as patch_rotation() in hemicube_geometry.c
+        // does, so that every pass shooting it sees the same texels.
+        uint key = sf.patches_s != 0u ? pc.seed * 0x9e3779b9u + 0x7f4a7c15u + sf.patch_first + k
+                                      : pc.seed * 0x9e3779b9u + s_first_patch + k;
+        float angle = float(lowbias32(key)) * (TWO_PI / 4294967296.0);
         gpu_shooter sh;
         sh.pos_area = vec4(bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y)), area);
         sh.normal = vec4(normal, 0.0);

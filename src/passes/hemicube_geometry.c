@@ -93,6 +93,11 @@ void hemicube_delta_form_factors(uint32_t res, float *table)
     }
 }
 
+double patch_rotation(uint32_t seed, uint32_t index)
+{
+    return hemicube_rotation(seed * 0x9e3779b9u + 0x7f4a7c15u + index);
+}
+
 double hemicube_rotation(uint32_t seed)
 {
     /* A 32-bit integer hash (Wellons' lowbias32) spread over the circle. */

@@ -49,4 +49,9 @@ void hemicube_delta_form_factors(uint32_t res, float *table);
  * patterns of many hemicubes). */
 double hemicube_rotation(uint32_t seed);
 
+/* The rotation of the hemicube of fixed shooting patch `index`
+ * (gpu_surface.patch_first + k), the same for every pass that shoots it
+ * (spirv/select.comp computes it too). */
+double patch_rotation(uint32_t seed, uint32_t index);
+
 #endif

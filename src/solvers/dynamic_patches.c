@@ -96,14 +96,15 @@ xrad_status dynamic_patches_fix(struct xrad_context *ctx, gpu_scene *gs,
                                 const dynamic_patches *dp, xrad_error *err)
 {
     uint32_t n = gs->surface_count ? gs->surface_count : 1;
-    uint32_t *counts = calloc(2 * (size_t)n, sizeof(uint32_t));
+    uint32_t *counts = calloc(3 * (size_t)n, sizeof(uint32_t));
     if (!counts)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "patches: out of host memory");
     for (uint32_t s = 0; s < gs->surface_count; s++) {
         uint32_t p = dp->surface_patch[s];
         if (p != DYNAMIC_PATCH_NONE) {
-            counts[2 * s] = dp->patches[p].cx;
-            counts[2 * s + 1] = dp->patches[p].cy;
+            counts[3 * s] = dp->patches[p].cx;
+            counts[3 * s + 1] = dp->patches[p].cy;
+            counts[3 * s + 2] = p;
         }
     }
     xrad_status st = gpu_scene_fix_patches(ctx, gs, counts, err);
@@ -137,7 +138,7 @@ void dynamic_patches_pose(const xrad_scene *scene, const dynamic_patches *dp, do
         scene_surface_world(scene, q->surface, t, c, &n);
         vec3 u = v3_sub(c[1], c[0]);
         vec3 x0 = v3_norm(v3_sub(u, v3_scale(n, v3_dot(u, n))));
-        mat3 r = m3_rotation(n, hemicube_rotation(seed * 0x9e3779b9u + 0x7f4a7c15u + p));
+        mat3 r = m3_rotation(n, patch_rotation(seed, p));
         vec3 tangent = m3_apply(&r, x0);
         double s0, s1, t0, t1;
         param_range(q->i0, q->i1, sf->nu, &s0, &s1);

@@ -71,8 +71,9 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
         gsf->tile_x = sf->tile_x;
         gsf->tile_y = sf->tile_y;
         if (fixed_patches) {
-            gsf->patches_s = fixed_patches[2 * s];
-            gsf->patches_t = fixed_patches[2 * s + 1];
+            gsf->patches_s = fixed_patches[3 * s];
+            gsf->patches_t = fixed_patches[3 * s + 1];
+            gsf->patch_first = fixed_patches[3 * s + 2];
         }
 
         for (uint32_t e = 0; e < sf->nu * sf->nv; e++) {
@@ -251,11 +252,11 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
 xrad_status gpu_scene_fix_patches(struct xrad_context *ctx, gpu_scene *gs,
                                   const uint32_t *patches, xrad_error *err)
 {
-    size_t bytes = 2 * (size_t)(gs->surface_count ? gs->surface_count : 1) * sizeof(uint32_t);
+    size_t bytes = 3 * (size_t)(gs->surface_count ? gs->surface_count : 1) * sizeof(uint32_t);
     uint32_t *copy = malloc(bytes);
     if (!copy)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "GPU scene: out of host memory");
-    memcpy(copy, patches, 2 * (size_t)gs->surface_count * sizeof(uint32_t));
+    memcpy(copy, patches, 3 * (size_t)gs->surface_count * sizeof(uint32_t));
     free(gs->fixed_patches);
     gs->fixed_patches = copy;
     return upload_geometry(ctx, gs, gs->time, err);

@@ -47,7 +47,8 @@ typedef struct gpu_scene {
                                   written by the atlas scatter pass (passes/atlas_scatter.h);
                                   always in VK_IMAGE_LAYOUT_GENERAL (zero after create) */
     double diameter;           /* m, bounding-box diagonal of the scene at `time` */
-    uint32_t *fixed_patches;   /* NULL, or 2 per surface: gpu_surface.patches_s, patches_t */
+    uint32_t *fixed_patches;   /* NULL, or 3 per surface: gpu_surface.patches_s, patches_t,
+                                  patch_first */
 } gpu_scene;
 
 /* Uploads the scene posed at `time`, with B = Bu = E. */
@@ -62,8 +63,9 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs);
 xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
                            xrad_error *err);
 
-/* Fixes the shooting patches (s, t counts, 2 per surface; 0 0: by power)
- * the select pass uses for each surface, from now on and at every pose. */
+/* Fixes the shooting patches the select pass uses for each surface, from
+ * now on and at every pose: 3 per surface, the counts along s and t (0 0:
+ * by power) and the number of its first patch (gpu_surface.patch_first). */
 xrad_status gpu_scene_fix_patches(struct xrad_context *ctx, gpu_scene *gs,
                                   const uint32_t *patches, xrad_error *err);
 

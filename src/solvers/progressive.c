@@ -53,8 +53,8 @@ static uint32_t shooter_capacity(const xrad_solver *s)
     for (uint32_t k = 0; k < s->scene->surface_count; k++) {
         const surface *sf = &s->scene->surfaces[k];
         uint32_t n = (sf->nu < mp ? sf->nu : mp) * (sf->nv < mp ? sf->nv : mp);
-        if (s->gs.fixed_patches && s->gs.fixed_patches[2 * k])
-            n = s->gs.fixed_patches[2 * k] * s->gs.fixed_patches[2 * k + 1];
+        if (s->gs.fixed_patches && s->gs.fixed_patches[3 * k])
+            n = s->gs.fixed_patches[3 * k] * s->gs.fixed_patches[3 * k + 1];
         need = n > need ? n : need;
     }
     uint32_t layers = s->ctx->props.limits.maxImageArrayLayers / HEMICUBE_FACES;
