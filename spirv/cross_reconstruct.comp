@@ -34,6 +34,13 @@
 //
 // Visibility, receiver point and form factor are those of the reconstruct
 // pass (spirv/shooting.glsl).
+//
+// Pairs (CROSS_PAIRS_*): where the solver keeps them, each (patch, static
+// element) pair's new-pose F and P are stored, and the next redistribution,
+// whose old pose this is, reads them instead of evaluating the old pose
+// again: the same numbers (the last frame's hemicubes, frames and receiver
+// points), so exactly what was inserted is removed (thesis 6.2), at half
+// the cost.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 #include "radiosity.h"
@@ -57,6 +64,7 @@ layout(binding = CROSS_RECONSTRUCT_BINDING_IDS_OLD) uniform utexture2DArray ids_
 layout(binding = CROSS_RECONSTRUCT_BINDING_IDS_NEW) uniform utexture2DArray ids_new;
 layout(binding = CROSS_RECONSTRUCT_BINDING_BACK_OLD) uniform texture2DArray back_old;
 layout(binding = CROSS_RECONSTRUCT_BINDING_BACK_NEW) uniform texture2DArray back_new;
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PAIRS) buffer Pairs { vec4 pairs[]; };
 
 gpu_shooter frame(uint slot, uint table, uint p)
 {
@@ -212,12 +220,25 @@ void main()
                 gathered += ff * values[p].total.rgb;
             continue;
         }
-        float f_old = patch_form_factor(pc.old_slot, p, x, ne, local);
-        if (f_old > 0.0 && shooting_visible(ids_old, pc.hemicube_res, true, local, p, id))
-            gathered += f_old * (back_old_projected(pc.old_slot, p, x, ne) - values[p].shot.rgb);
+        uint pair = p * pc.element_count + e;
+        if ((pc.pairs & CROSS_PAIRS_READ) != 0u) {
+            vec4 o = pairs[pair];
+            if (o.w > 0.0)
+                gathered += o.w * (o.xyz - values[p].shot.rgb);
+        } else {
+            float f_old = patch_form_factor(pc.old_slot, p, x, ne, local);
+            if (f_old > 0.0 && shooting_visible(ids_old, pc.hemicube_res, true, local, p, id))
+                gathered += f_old * (back_old_projected(pc.old_slot, p, x, ne) - values[p].shot.rgb);
+        }
         float f_new = patch_form_factor(pc.new_slot, p, x, ne, local);
-        if (f_new > 0.0 && shooting_visible(ids_new, pc.hemicube_res, true, local, p, id))
-            gathered += f_new * (values[p].total.rgb - back_new_projected(pc.new_slot, p, x, ne));
+        vec4 kept = vec4(0.0);
+        if (f_new > 0.0 && shooting_visible(ids_new, pc.hemicube_res, true, local, p, id)) {
+            vec3 projected = back_new_projected(pc.new_slot, p, x, ne);
+            gathered += f_new * (values[p].total.rgb - projected);
+            kept = vec4(projected, f_new);
+        }
+        if ((pc.pairs & CROSS_PAIRS_WRITE) != 0u)
+            pairs[pair] = kept;
     }
     if (all(equal(gathered, vec3(0.0))))
         return;

@@ -92,7 +92,14 @@ struct cross_update_push {
 #define CROSS_RECONSTRUCT_BINDING_IDS_NEW 9
 #define CROSS_RECONSTRUCT_BINDING_BACK_OLD 10 /* RGBA16F array: shot radiosity x scale, distance */
 #define CROSS_RECONSTRUCT_BINDING_BACK_NEW 11
-#define CROSS_RECONSTRUCT_BINDING_COUNT 12
+/* vec4[patch_count * element_count], pair (p, e) at p * element_count + e:
+ * the new-pose terms of the last redistribution, xyz = P(C, s', e), w =
+ * F_new (0 where e did not see the patch); read back as the old pose's. */
+#define CROSS_RECONSTRUCT_BINDING_PAIRS 12
+#define CROSS_RECONSTRUCT_BINDING_COUNT 13
+
+#define CROSS_PAIRS_READ 1u  /* old-pose terms from the pairs, not the old hemicubes */
+#define CROSS_PAIRS_WRITE 2u /* keep this redistribution's new-pose terms */
 
 #define CROSS_RECONSTRUCT_GROUP 64u
 
@@ -108,7 +115,7 @@ struct cross_reconstruct_push {
     float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
     float inv_scale;       /* 1 / the back hemicubes' radiosity scale */
     float diameter;        /* m: back hemicube alpha x this = distance */
-    float pad0;
+    uint pairs;            /* CROSS_PAIRS_* */
 };
 
 #endif

@@ -20,8 +20,9 @@ xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "cross reconstruct pass: out of host memory");
     VkDescriptorType types[CROSS_RECONSTRUCT_BINDING_COUNT];
     for (uint32_t b = 0; b < CROSS_RECONSTRUCT_BINDING_COUNT; b++)
-        types[b] = b >= CROSS_RECONSTRUCT_BINDING_IDS_OLD ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE
-                                                           : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        types[b] = b >= CROSS_RECONSTRUCT_BINDING_IDS_OLD && b <= CROSS_RECONSTRUCT_BINDING_BACK_NEW
+                       ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE
+                       : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     gpu_kernel_desc d = {
         .spv = cross_reconstruct_comp_spv,
         .spv_bytes = sizeof(cross_reconstruct_comp_spv),
@@ -66,6 +67,7 @@ void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *p,
             [CROSS_RECONSTRUCT_BINDING_IDS_NEW] = {NULL, b->ids[k]},
             [CROSS_RECONSTRUCT_BINDING_BACK_OLD] = {NULL, b->back[1 - k]},
             [CROSS_RECONSTRUCT_BINDING_BACK_NEW] = {NULL, b->back[k]},
+            [CROSS_RECONSTRUCT_BINDING_PAIRS] = {b->pairs, 0},
         };
         gpu_kernel_bind(ctx, &p->kernel, k, r);
     }
@@ -86,6 +88,7 @@ void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
         .subdivide_ratio = (float)q->subdivide_ratio,
         .inv_scale = (float)(1.0 / q->back_scale),
         .diameter = (float)q->diameter,
+        .pairs = q->pairs,
     };
     gpu_kernel_dispatch(&p->kernel, cmd, q->new_slot, &push, q->element_count,
                         CROSS_RECONSTRUCT_GROUP);

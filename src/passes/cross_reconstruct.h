@@ -32,6 +32,9 @@ typedef struct cross_reconstruct_bindings {
     /* Per pose slot: ID hemicubes (R32_UINT array) and back hemicubes
      * (RGBA16F array), patch p in layers 5p..5p+4, SHADER_READ_ONLY_OPTIMAL. */
     VkImageView ids[2], back[2];
+    /* vec4[patch_count * element_count] (CROSS_RECONSTRUCT_BINDING_PAIRS);
+     * any storage buffer where the solver keeps none. */
+    const gpu_buffer *pairs;
 } cross_reconstruct_bindings;
 
 typedef struct cross_reconstruct_params {
@@ -43,6 +46,7 @@ typedef struct cross_reconstruct_params {
     double subdivide_ratio; /* exact form factor where A_s / r^2 exceeds it */
     double back_scale;      /* the back hemicubes hold shot radiosity x this */
     double diameter;        /* m, the back hemicubes' alpha x this = distance */
+    uint32_t pairs;         /* CROSS_PAIRS_READ | CROSS_PAIRS_WRITE */
 } cross_reconstruct_params;
 
 xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,

@@ -20,7 +20,10 @@
  *      what was inserted is removed exactly, thesis 6.2, and each frame
  *      renders 3 hemicubes per patch instead of 5); with cross_recompute,
  *      or when there is no last redistribution at this pose, they are
- *      rendered first, before the objects move.
+ *      rendered first, before the objects move. Where memory allows (the
+ *      pairs buffer, elements x patches), the last redistribution's
+ *      new-pose F and P of every pair are kept too, and the old pose's
+ *      terms are read from there instead of evaluated again.
  *   3. R_g(C, M): integrate the gather hemicubes; the elements of M take
  *      B = E + rho x (their surface's coarse samples, bilinear), Bu = 0
  *      (GATHERED), and T.total = area mean of B per patch (TOTAL).
@@ -56,6 +59,11 @@
 #include "solvers/progressive.h"
 #include "solvers/solver.h"
 
+/* The per-pair cache of the last redistribution's terms grows with
+ * elements x patches; above this the old pose is evaluated again from the
+ * kept hemicubes instead (the same numbers, twice the work). */
+#define MAX_PAIR_BYTES (64ull << 20)
+
 typedef struct cross {
     progressive *prog;
     dynamic_patches dp;
@@ -72,6 +80,8 @@ typedef struct cross {
     gpu_buffer shot;          /* vec4[element_count]: B - Bu of C, 0 on M */
     gpu_buffer frames;        /* gpu_shooter[2 slots][3 tables][P], host-written */
     gpu_buffer quads;         /* struct cross_quad[2 slots][P], host-written */
+    gpu_buffer pairs;         /* vec4[P x element_count]: last new-pose F and P per pair;
+                                 empty where that would exceed MAX_PAIR_BYTES */
     double diameter;          /* m, the scale of the hemicubes' near plane and distances,
                                  fixed at create (the posed scene's diameter changes) */
     uint32_t slot;            /* the slot holding the pose in hand */
@@ -96,7 +106,7 @@ static void destroy(xrad_solver *s)
     cross_update_destroy(ctx, &c->update);
     cross_reconstruct_destroy(ctx, &c->reconstruct);
     gpu_buffer *buffers[] = {&c->patches, &c->values, &c->gathered, &c->surface_patch,
-                             &c->shot,    &c->frames, &c->quads};
+                             &c->shot,    &c->frames, &c->quads,          &c->pairs};
     for (size_t k = 0; k < sizeof(buffers) / sizeof(buffers[0]); k++)
         gpu_buffer_destroy(ctx, buffers[k]);
     dynamic_patches_free(&c->dp);
@@ -114,6 +124,15 @@ static double radiosity_bound(const xrad_scene *scene)
         rho = fmax(rho, fmax(mt->albedo.x, fmax(mt->albedo.y, mt->albedo.z)));
     }
     return e > 0 ? e / (1 - rho) : 1;
+}
+
+static xrad_status create_pairs(xrad_solver *s, cross *c, xrad_error *err)
+{
+    uint64_t bytes = (uint64_t)c->P * s->gs.element_count * sizeof(vec4);
+    if (bytes > MAX_PAIR_BYTES || bytes > s->ctx->props.limits.maxStorageBufferRange)
+        return XRAD_OK;
+    return gpu_buffer_create(s->ctx, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
+                             GPU_MEM_RADIOSITY, &c->pairs, err);
 }
 
 static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *err)
@@ -152,6 +171,7 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
         (st = gpu_buffer_create(ctx, 2 * P * sizeof(struct cross_quad),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
                                 GPU_MEM_GEOMETRY, &c->quads, err)) ||
+        (st = create_pairs(s, c, err)) ||
         (st = gpu_upload_buffer(ctx, &c->patches, 0, c->dp.patches,
                                 P * sizeof(struct cross_patch), err)) ||
         (st = gpu_upload_buffer(ctx, &c->surface_patch, 0, c->dp.surface_patch,
@@ -177,7 +197,8 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
             &gs->surfaces, &gs->elements, &gs->materials, &gs->B, &gs->Bu, &c->values, &c->frames,
             &c->quads,
             {hemicube_ids_view(c->ids[0]), hemicube_ids_view(c->ids[1])},
-            {hemicube_image(c->back[0])->view, hemicube_image(c->back[1])->view}});
+            {hemicube_image(c->back[0])->view, hemicube_image(c->back[1])->view},
+            c->pairs.buffer ? &c->pairs : &c->gathered});
     c->scale = 0.5 / radiosity_bound(s->scene);
     return XRAD_OK;
 }
@@ -316,7 +337,8 @@ static xrad_status render_old_pose(xrad_solver *s, cross *c, xrad_error *err)
     return run(s, &cmd, err);
 }
 
-static void record_redistribution(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot)
+static void record_redistribution(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot,
+                                  uint32_t pairs)
 {
     const gpu_scene *gs = &s->gs;
     uint32_t n = gs->element_count, P = c->P;
@@ -361,6 +383,7 @@ static void record_redistribution(xrad_solver *s, cross *c, VkCommandBuffer cmd,
                                  .subdivide_ratio = s->desc.subdivide_ratio,
                                  .back_scale = c->scale,
                                  .diameter = c->diameter,
+                                 .pairs = pairs,
                              });
     gpu_timer_end(s->timer, cmd);
 }
@@ -371,7 +394,11 @@ static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
     xrad_status st;
     double t0 = solver_now_ms();
     if (c->P) {
-        if ((!c->cached || s->desc.cross_recompute) && (st = render_old_pose(s, c, err)))
+        /* The old pose's terms: kept per pair, or from the kept hemicubes,
+         * or (thesis, or nothing kept yet) rendered now. */
+        bool reuse = c->cached && !s->desc.cross_recompute;
+        uint32_t pairs = c->pairs.buffer ? CROSS_PAIRS_WRITE | (reuse ? CROSS_PAIRS_READ : 0) : 0;
+        if (!reuse && (st = render_old_pose(s, c, err)))
             return st;
         if ((st = gpu_scene_pose(s->ctx, &s->gs, time, err)))
             return st;
@@ -381,7 +408,7 @@ static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
         if ((st = gpu_cmd_begin(s->ctx, &cmd, err)))
             return st;
         gpu_timer_start(s->timer, cmd.cmd);
-        record_redistribution(s, c, cmd.cmd, slot);
+        record_redistribution(s, c, cmd.cmd, slot, pairs);
         c->cached = false;
         if ((st = run(s, &cmd, err)))
             return st;

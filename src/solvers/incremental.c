@@ -69,18 +69,19 @@ typedef struct incremental {
     /* Redistribution state: all zero without dynamic objects. */
     dynamic_patches dp;
     uint32_t m_count;    /* shooters of M: the fixed patches, table entries [0, m_count) */
-    uint32_t c_capacity; /* most shooters of C one redistribution makes */
-    uint32_t c_count;    /* this redistribution's, entries [m_count, m_count + c_count) */
+    uint32_t c_capacity; /* most shooters C's layout can have */
+    uint32_t c_count;    /* C's fixed patches, entries [m_count, m_count + c_count) */
+    bool c_fixed;        /* C's layout is fixed on the gpu_scene (after a solve) */
     uint32_t chunk;      /* shooters per chunk */
     uint32_t chunks_per_submission;
-    uint32_t frame;      /* redistributions so far: varies C's hemicube rotations */
     hemicube_pass *old_ids, *new_ids;
     incremental_reconstruct_pass *pass;
     gpu_buffer prev_vertices; /* gpu_scene_vertex[vertex_count]: the old pose */
     gpu_buffer shooters;      /* struct gpu_shooter[m_count + c_capacity], device */
     gpu_buffer staging;       /* the same, host-written, copied in per step */
     gpu_buffer values;        /* struct incr_value[m_count + c_capacity] */
-    gpu_buffer power;         /* float[surface_count], host-visible */
+    gpu_buffer power;         /* float[surface_count], host-visible: read once per solve */
+    uint32_t *fixed;          /* [3 * surface_count]: gpu_scene_fix_patches' table */
 } incremental;
 
 static double now_ms(void)
@@ -102,6 +103,8 @@ static void destroy_state(xrad_solver *s, incremental *inc)
     gpu_buffer_destroy(s->ctx, &inc->staging);
     gpu_buffer_destroy(s->ctx, &inc->shooters);
     gpu_buffer_destroy(s->ctx, &inc->prev_vertices);
+    free(inc->fixed);
+    inc->fixed = NULL;
     dynamic_patches_free(&inc->dp);
 }
 
@@ -122,10 +125,11 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
     struct xrad_context *ctx = s->ctx;
     const gpu_scene *gs = &s->gs;
     const xrad_scene *scene = s->scene;
-    xrad_status st = dynamic_patches_build(scene, s->desc.max_patches, &inc->dp, err);
-    if (st)
-        return st;
+    xrad_status st;
     inc->m_count = inc->dp.count;
+    inc->fixed = calloc(3 * (size_t)(gs->surface_count ? gs->surface_count : 1), sizeof(uint32_t));
+    if (!inc->fixed)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "incremental solver: out of host memory");
     /* The patch rule gives a surface at most max_patches and its element
      * count per side. */
     uint32_t mp = s->desc.max_patches;
@@ -213,10 +217,14 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
     incremental *inc = calloc(1, sizeof(*inc));
     if (!inc)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "incremental solver: out of host memory");
-    xrad_status st = progressive_create(s, &inc->engine, err);
-    /* Static surfaces' vertices come first: fewer than all means set M is
-     * not empty. */
-    if (!st && s->gs.static_vertex_count < s->gs.vertex_count)
+    /* M's layout is fixed before progressive_create, so that the shooter
+     * capacity accounts for it (as cross.c). */
+    xrad_status st = dynamic_patches_build(s->scene, s->desc.max_patches, &inc->dp, err);
+    if (!st && inc->dp.count)
+        st = dynamic_patches_fix(s->ctx, &s->gs, &inc->dp, err);
+    if (!st)
+        st = progressive_create(s, &inc->engine, err);
+    if (!st && inc->dp.count)
         st = create_state(s, inc, err);
     if (st) {
         destroy_state(s, inc);
