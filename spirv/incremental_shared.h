@@ -54,7 +54,7 @@ struct incr_push {
     uint hemicube_res;  /* pixels per face side of the ID hemicubes */
     uint neighbours;    /* 1: nearest-texel visibility check (thesis 4.3.3) */
     float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
-    float pad0;
+    uint deferred;      /* 1: INCREMENT moves shot radiosity only, RESET keeps C's Bu */
 };
 
 #endif

@@ -29,11 +29,10 @@ static void help(void)
            "  --max-reference-elements N  above this element count the reference is a\n"
            "                     high-quality GPU gather (hemicube 128, 4x MSAA, threshold\n"
            "                     1e-5) instead of the CPU solver [12000]\n"
-           "  --hemicube-res N, --threshold T, --batch N, --frame-shots N, --cross-grid N,\n"
-           "  --back-res N, --cross-recompute   GPU settings (see xrad render)\n"
+           METHOD_SOLVER_OPTIONS_HELP
            "  --device NAME      Vulkan device\n\n"
            "Reference images are cached in the cache directory under a name that hashes the\n"
-           "scene file, the reference settings and the image size.\n",
+           "scene file, the reference settings, the image size and the pose's time.\n",
            method_list());
 }
 
@@ -168,24 +167,12 @@ static int parse(int argc, char **argv, bench_opts *o)
             cli_uint(&a, 1, 4096, &o->ref_rays);
         } else if (!strcmp(opt, "max-reference-elements")) {
             cli_uint(&a, 0, 100000, &o->max_ref_elements);
-        } else if (!strcmp(opt, "hemicube-res")) {
-            cli_uint(&a, 8, 1024, &o->m.solver.hemicube_res);
-        } else if (!strcmp(opt, "threshold")) {
-            cli_double(&a, 1e-12, 0.5, &o->m.solver.threshold);
-        } else if (!strcmp(opt, "batch")) {
-            cli_uint(&a, 1, 4096, &o->m.solver.batch);
         } else if (!strcmp(opt, "time")) {
             cli_double(&a, -1e6, 1e6, &o->time);
         } else if (!strcmp(opt, "fps")) {
             cli_double(&a, 1e-3, 1e6, &o->fps);
-        } else if (!strcmp(opt, "frame-shots")) {
-            cli_uint(&a, 0, 10000000, &o->m.solver.frame_shots);
-        } else if (!strcmp(opt, "cross-grid")) {
-            cli_uint(&a, 1, 16, &o->m.solver.cross_grid);
-        } else if (!strcmp(opt, "back-res")) {
-            cli_uint(&a, 8, 256, &o->m.solver.back_res);
-        } else if (!strcmp(opt, "cross-recompute")) {
-            o->m.solver.cross_recompute = 1;
+        } else if (method_solver_option(&a, opt, &o->m.solver)) {
+            continue;
         } else if (!strcmp(opt, "device")) {
             o->device = cli_value(&a);
         } else {

@@ -33,22 +33,7 @@ static void help(void)
            "  --rays N          reference: visibility rays per element pair [16]\n"
            "  --residual R      reference: Gauss-Seidel stop, max|dB|/max B per sweep [1e-6]\n"
            "  --threads N       reference: worker threads [online cores]\n"
-           "  --hemicube-res N  GPU: hemicube face resolution, even [64]\n"
-           "  --msaa N          gather: radiosity hemicube samples, 1 or 4 [4]\n"
-           "  --bounces N       gather: fixed bounce count [0 = until --threshold]\n"
-           "  --threshold T     GPU: stop when unshot power / bounce change relative to the\n"
-           "                    emitted power falls below T [1e-4]\n"
-           "  --batch N         progressive: shots per submission (one host wait each) [32]\n"
-           "  --max-patches N   progressive: shooting patches per surface side [8]\n"
-           "  --seed N          GPU: hemicube rotation seed [0]\n"
-           "  --frame-shots N   incremental, cross: progressive shots after each\n"
-           "                    redistribution [0 = until --threshold]\n"
-           "  --cross-grid N    cross: PROJECTEDRADIOSITY rays per patch side, 1..16 [4]\n"
-           "  --back-res N      cross: back hemicube face resolution, even [16]\n"
-           "  --back-msaa N     cross: back hemicube samples, 1 or 4 [4]\n"
-           "  --back-nearest    cross: nearest back hemicube samples (default bilinear)\n"
-           "  --cross-recompute cross: render all four hemicubes per patch each frame\n"
-           "                    (thesis) instead of reusing the last frame's\n"
+           METHOD_SOLVER_OPTIONS_HELP
            "  --device NAME     Vulkan device (substring; see xrad devices)\n"
            "  --quiet           no progress on stderr\n\n"
            "The EXR holds the radiosity B (W/m^2) of the surface seen in each pixel.\n");
@@ -120,32 +105,8 @@ static int parse(int argc, char **argv, render_opts *o)
             cli_double(&a, 1e-15, 1, &o->m.reference.residual);
         } else if (!strcmp(opt, "threads")) {
             cli_uint(&a, 1, 1024, &o->m.reference.threads);
-        } else if (!strcmp(opt, "hemicube-res")) {
-            cli_uint(&a, 8, 1024, &o->m.solver.hemicube_res);
-        } else if (!strcmp(opt, "msaa")) {
-            cli_uint(&a, 1, 4, &o->m.solver.msaa);
-        } else if (!strcmp(opt, "bounces")) {
-            cli_uint(&a, 0, 100000, &o->m.solver.bounces);
-        } else if (!strcmp(opt, "threshold")) {
-            cli_double(&a, 1e-12, 0.5, &o->m.solver.threshold);
-        } else if (!strcmp(opt, "batch")) {
-            cli_uint(&a, 1, 4096, &o->m.solver.batch);
-        } else if (!strcmp(opt, "max-patches")) {
-            cli_uint(&a, 1, 64, &o->m.solver.max_patches);
-        } else if (!strcmp(opt, "seed")) {
-            cli_uint(&a, 0, UINT32_MAX, &o->m.solver.seed);
-        } else if (!strcmp(opt, "frame-shots")) {
-            cli_uint(&a, 0, 10000000, &o->m.solver.frame_shots);
-        } else if (!strcmp(opt, "cross-grid")) {
-            cli_uint(&a, 1, 16, &o->m.solver.cross_grid);
-        } else if (!strcmp(opt, "back-res")) {
-            cli_uint(&a, 8, 256, &o->m.solver.back_res);
-        } else if (!strcmp(opt, "back-msaa")) {
-            cli_uint(&a, 1, 4, &o->m.solver.back_msaa);
-        } else if (!strcmp(opt, "back-nearest")) {
-            o->m.solver.back_nearest = 1;
-        } else if (!strcmp(opt, "cross-recompute")) {
-            o->m.solver.cross_recompute = 1;
+        } else if (method_solver_option(&a, opt, &o->m.solver)) {
+            continue;
         } else if (!strcmp(opt, "device")) {
             o->device = cli_value(&a);
         } else if (!strcmp(opt, "quiet")) {

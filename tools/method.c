@@ -73,6 +73,39 @@ xrad_status method_run(xrad_context *ctx, const xrad_scene *scene, const char *n
     return st;
 }
 
+int method_solver_option(cli_args *a, const char *opt, xrad_solver_desc *d)
+{
+    if (!strcmp(opt, "hemicube-res"))
+        cli_uint(a, 8, 1024, &d->hemicube_res);
+    else if (!strcmp(opt, "msaa"))
+        cli_uint(a, 1, 4, &d->msaa);
+    else if (!strcmp(opt, "bounces"))
+        cli_uint(a, 0, 100000, &d->bounces);
+    else if (!strcmp(opt, "threshold"))
+        cli_double(a, 1e-12, 0.5, &d->threshold);
+    else if (!strcmp(opt, "batch"))
+        cli_uint(a, 1, 4096, &d->batch);
+    else if (!strcmp(opt, "max-patches"))
+        cli_uint(a, 1, 64, &d->max_patches);
+    else if (!strcmp(opt, "seed"))
+        cli_uint(a, 0, UINT32_MAX, &d->seed);
+    else if (!strcmp(opt, "frame-shots"))
+        cli_uint(a, 0, 10000000, &d->frame_shots);
+    else if (!strcmp(opt, "cross-grid"))
+        cli_uint(a, 1, 16, &d->cross_grid);
+    else if (!strcmp(opt, "back-res"))
+        cli_uint(a, 8, 256, &d->back_res);
+    else if (!strcmp(opt, "back-msaa"))
+        cli_uint(a, 1, 4, &d->back_msaa);
+    else if (!strcmp(opt, "back-nearest"))
+        d->back_nearest = 1;
+    else if (!strcmp(opt, "cross-recompute"))
+        d->cross_recompute = 1;
+    else
+        return 0;
+    return 1;
+}
+
 void method_print_passes(const method_result *r)
 {
     if (!r->gpu)

@@ -4,7 +4,31 @@
 #ifndef XRAD_TOOLS_METHOD_H
 #define XRAD_TOOLS_METHOD_H
 
+#include "cli.h"
 #include "xrad.h"
+
+/* Help lines of the GPU solver options method_solver_option takes. */
+#define METHOD_SOLVER_OPTIONS_HELP                                                             \
+    "  --hemicube-res N  GPU: hemicube face resolution, even [64]\n"                            \
+    "  --msaa N          gather: radiosity hemicube samples, 1 or 4 [4]\n"                      \
+    "  --bounces N       gather: fixed bounce count [0 = until --threshold]\n"                  \
+    "  --threshold T     GPU: stop when unshot power / bounce change relative to the\n"         \
+    "                    emitted power falls below T [1e-4]\n"                                  \
+    "  --batch N         progressive: shots per submission (one host wait each) [32]\n"         \
+    "  --max-patches N   progressive: shooting patches per surface side [8]\n"                  \
+    "  --seed N          GPU: hemicube rotation seed [0]\n"                                     \
+    "  --frame-shots N   incremental, cross: progressive shots after each\n"                    \
+    "                    redistribution [0 = until --threshold]\n"                              \
+    "  --cross-grid N    cross: PROJECTEDRADIOSITY rays per patch side, 1..16 [4]\n"            \
+    "  --back-res N      cross: back hemicube face resolution, even [16]\n"                     \
+    "  --back-msaa N     cross: back hemicube samples, 1 or 4 [4]\n"                            \
+    "  --back-nearest    cross: nearest back hemicube samples (default bilinear)\n"             \
+    "  --cross-recompute cross: render all four hemicubes per patch each frame\n"               \
+    "                    (thesis) instead of keeping the last frame's\n"
+
+/* Takes `opt` (and its value) into `d` if it is one of the options above;
+ * returns 0 when it is not. */
+int method_solver_option(cli_args *a, const char *opt, xrad_solver_desc *d);
 
 typedef struct method_settings {
     xrad_solver_desc solver;    /* GPU methods; method filled from the name */

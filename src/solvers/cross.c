@@ -312,14 +312,7 @@ static void record_pose_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd,
 static xrad_status run(xrad_solver *s, gpu_cmd *cmd, xrad_error *err)
 {
     full_barrier(cmd->cmd);
-    xrad_status st = gpu_cmd_submit(s->ctx, cmd, err);
-    if (!st) {
-        s->stats.submissions++;
-        st = gpu_cmd_wait(s->ctx, cmd, err);
-        s->stats.host_waits++;
-    }
-    gpu_cmd_destroy(s->ctx, cmd);
-    return st ? st : gpu_timer_collect(s->ctx, s->timer, err);
+    return solver_submit_wait(s, cmd, err);
 }
 
 /* The old pose's hemicubes, rendered at the pose in hand (before it moves). */

@@ -270,18 +270,6 @@ static double stage_b(const xrad_solver *s, gather *g)
     return max_b;
 }
 
-static xrad_status run(xrad_solver *s, gpu_cmd *c, xrad_error *err)
-{
-    xrad_status st = gpu_cmd_submit(s->ctx, c, err);
-    if (!st) {
-        s->stats.submissions++;
-        st = gpu_cmd_wait(s->ctx, c, err);
-        s->stats.host_waits++;
-    }
-    gpu_cmd_destroy(s->ctx, c);
-    return st ? st : gpu_timer_collect(s->ctx, s->timer, err);
-}
-
 /* One bounce: every element gathers from the atlas of the host's B; the
  * sums land in g->readback. */
 static xrad_status bounce(xrad_solver *s, gather *g, float scale, xrad_error *err)
@@ -333,7 +321,7 @@ static xrad_status bounce(xrad_solver *s, gather *g, float scale, xrad_error *er
             gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                            VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
         }
-        if ((st = run(s, &c, err)))
+        if ((st = solver_submit_wait(s, &c, err)))
             return st;
     } while (first < n);
     return XRAD_OK;
@@ -396,7 +384,7 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
                    VK_PIPELINE_STAGE_ALL_COMMANDS_BIT | VK_PIPELINE_STAGE_HOST_BIT,
                    VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT |
                        VK_ACCESS_HOST_READ_BIT);
-    if ((st = run(s, &c, err)))
+    if ((st = solver_submit_wait(s, &c, err)))
         return st;
     solver_collect_times(s);
     return XRAD_OK;

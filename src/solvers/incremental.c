@@ -192,6 +192,7 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
         .surface_count = gs->surface_count,
         .hemicube_res = s->desc.hemicube_res,
         .subdivide_ratio = s->desc.subdivide_ratio,
+        .deferred = getenv("XRAD_INCR_DEFERRED") != NULL,
     };
     if ((st = incremental_reconstruct_create(ctx, &params, &inc->pass, err)))
         return st;
@@ -236,14 +237,6 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
     return XRAD_OK;
 }
 
-static xrad_status solve(xrad_solver *s, xrad_error *err)
-{
-    incremental *inc = s->impl;
-    xrad_status st = progressive_run(s, inc->engine, true, 0, err);
-    solver_collect_times(s);
-    return st;
-}
-
 /* ------------------------------------------------------ redistribution */
 
 /* Patches along s and t for a surface of C with total power `power`: the
@@ -276,65 +269,130 @@ static void param_range(uint32_t i0, uint32_t i1, uint32_t n, double *lo, double
 static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
 
 /* GENERATESHOOTINGPATCHES for every surface of C (Algorithm 4.3 line 8),
- * the geometry half: patch rectangles, centres, areas and hemicube frames
- * (the select pass's construction, thesis 4.3.3 and 4.2) into `out`, from
- * the per-surface total powers of step 1. Surfaces with no power have
- * nothing to shoot. Returns the count. */
-static uint32_t layout_static_shooters(xrad_solver *s, incremental *inc, const float *power,
-                                       struct gpu_shooter *out)
+ * fixed once per solve: each surface of C is cut by the rule of the select
+ * pass from its total power `power` (thesis 4.3.3), and the cut is
+ * registered with the gpu_scene (gpu_scene_fix_patches) with the layout of
+ * M, so that the select pass shoots C with these same patches from now on.
+ * Patch k of a surface is numbered patch_first + k, after M's patches, and
+ * its hemicube frame is the select pass's (spirv/select.comp): centre
+ * bilinear at the centre of the block's parameter range, area the block's
+ * element areas summed, tangent the u edge projected onto the surface plane
+ * and turned by patch_rotation(seed, patch_first + k). What step 3 removes
+ * and reshoots with these frames is then what the progressive iterations
+ * shot with them, patch for patch and hemicube texel for texel. The frames
+ * go into the staging table's C entries, which keep them (C does not
+ * move); they are copied to the device with each step's upload. */
+static xrad_status fix_static_layout(xrad_solver *s, incremental *inc, const float *power,
+                                     xrad_error *err)
 {
     const xrad_scene *scene = s->scene;
+    struct gpu_shooter *out = (struct gpu_shooter *)inc->staging.alloc.mapped + inc->m_count;
     double max_power = 0;
     for (uint32_t k = 0; k < scene->surface_count; k++)
         max_power = power[k] > max_power ? power[k] : max_power;
     uint32_t n = 0;
-    if (!(max_power > 0))
-        return 0;
     for (uint32_t k = 0; k < scene->surface_count; k++) {
         const surface *sf = &scene->surfaces[k];
-        if (scene->objects[sf->object].dynamic || !(power[k] > 0))
+        uint32_t *fx = &inc->fixed[3 * k];
+        uint32_t p = inc->dp.surface_patch[k];
+        if (p != DYNAMIC_PATCH_NONE) {
+            /* M: as dynamic_patches_fix. */
+            fx[0] = inc->dp.patches[p].cx;
+            fx[1] = inc->dp.patches[p].cy;
+            fx[2] = p;
             continue;
+        }
         vec3 c[4], normal;
         scene_surface_world(scene, k, s->gs.time, c, &normal);
-        uint32_t kx, ky;
-        patch_counts(s, c, sf, power[k], max_power, &kx, &ky);
+        uint32_t kx = 1, ky = 1;
+        if (max_power > 0)
+            patch_counts(s, c, sf, power[k], max_power, &kx, &ky);
+        if (n + kx * ky > inc->c_capacity)
+            return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                             "incremental solver: C's patches exceed the table");
+        uint32_t first = inc->m_count + n;
+        fx[0] = kx;
+        fx[1] = ky;
+        fx[2] = first;
         vec3 u = v3_sub(c[1], c[0]);
         vec3 u0 = v3_norm(v3_sub(u, v3_scale(normal, v3_dot(u, normal))));
-        for (uint32_t py = 0; py < ky; py++) {
-            for (uint32_t px = 0; px < kx && n < inc->c_capacity; px++) {
-                uint32_t i0 = px * sf->nu / kx, i1 = (px + 1) * sf->nu / kx - 1;
-                uint32_t j0 = py * sf->nv / ky, j1 = (py + 1) * sf->nv / ky - 1;
-                double area = 0;
-                for (uint32_t j = j0; j <= j1; j++)
-                    for (uint32_t i = i0; i <= i1; i++)
-                        area += scene->elements[sf->first_element + j * sf->nu + i].area;
-                double s0, s1, t0, t1;
-                param_range(i0, i1, sf->nu, &s0, &s1);
-                param_range(j0, j1, sf->nv, &t0, &t1);
-                double ms = 0.5 * (s0 + s1), mt = 0.5 * (t0 + t1);
-                vec3 centre = v3_lerp(v3_lerp(c[0], c[1], ms), v3_lerp(c[3], c[2], ms), mt);
-                /* A fresh rotation per redistribution (thesis 4.2); the
-                 * old and new hemicubes of a patch share it, so that they
-                 * differ only where M moved. */
-                mat3 r = m3_rotation(normal, hemicube_rotation(s->desc.seed * 0x9e3779b9u +
-                                                               inc->frame * 0x85ebca6bu +
-                                                               0x3c6ef372u + n));
-                out[n] = (struct gpu_shooter){
-                    .pos_area = to_vec4(centre, area),
-                    .normal = to_vec4(normal, 0),
-                    .tangent = to_vec4(m3_apply(&r, u0), 0),
-                    .surface = k,
-                    .i0 = i0,
-                    .i1 = i1,
-                    .j0 = j0,
-                    .j1 = j1,
-                    .hemicube = n % inc->chunk,
-                };
-                n++;
-            }
+        for (uint32_t q = 0; q < kx * ky; q++) {
+            uint32_t px = q % kx, py = q / kx;
+            uint32_t i0 = px * sf->nu / kx, i1 = (px + 1) * sf->nu / kx - 1;
+            uint32_t j0 = py * sf->nv / ky, j1 = (py + 1) * sf->nv / ky - 1;
+            double area = 0;
+            for (uint32_t j = j0; j <= j1; j++)
+                for (uint32_t i = i0; i <= i1; i++)
+                    area += scene->elements[sf->first_element + j * sf->nu + i].area;
+            double s0, s1, t0, t1;
+            param_range(i0, i1, sf->nu, &s0, &s1);
+            param_range(j0, j1, sf->nv, &t0, &t1);
+            double ms = 0.5 * (s0 + s1), mt = 0.5 * (t0 + t1);
+            vec3 centre = v3_lerp(v3_lerp(c[0], c[1], ms), v3_lerp(c[3], c[2], ms), mt);
+            mat3 r = m3_rotation(normal, patch_rotation(s->desc.seed, first + q));
+            out[n] = (struct gpu_shooter){
+                .pos_area = to_vec4(centre, area),
+                .normal = to_vec4(normal, 0),
+                .tangent = to_vec4(m3_apply(&r, u0), 0),
+                .surface = k,
+                .i0 = i0,
+                .i1 = i1,
+                .j0 = j0,
+                .j1 = j1,
+                .hemicube = n % inc->chunk,
+            };
+            n++;
         }
     }
-    return n;
+    inc->c_count = n;
+    xrad_status st = gpu_scene_fix_patches(s->ctx, &s->gs, inc->fixed, err);
+    inc->c_fixed = !st;
+    return st;
+}
+
+/* The static surfaces' total powers after a solve, read back once. */
+static xrad_status read_power(xrad_solver *s, incremental *inc, xrad_error *err)
+{
+    gpu_cmd c;
+    xrad_status st = gpu_cmd_begin(s->ctx, &c, err);
+    if (st)
+        return st;
+    gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_POWER, 0, 0);
+    gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
+    st = gpu_cmd_run(s->ctx, &c, err);
+    gpu_cmd_destroy(s->ctx, &c);
+    if (!st) {
+        s->stats.submissions++;
+        s->stats.host_waits++;
+    }
+    return st;
+}
+
+/* Progressive refinement from emission (thesis 4.4: the first solve). With
+ * M, C's shooting patches are then fixed from the converged powers (a
+ * restart drops the previous fix first, so that the solve cuts C by power
+ * as progressive refinement does), and the solve is run again with them,
+ * so that everything C ever shot went through the patches and hemicubes
+ * the redistributions remove it with. */
+static xrad_status solve(xrad_solver *s, xrad_error *err)
+{
+    incremental *inc = s->impl;
+    xrad_status st = XRAD_OK;
+    if (inc->m_count && inc->c_fixed) {
+        inc->c_fixed = false;
+        st = dynamic_patches_fix(s->ctx, &s->gs, &inc->dp, err);
+    }
+    if (!st)
+        st = progressive_run(s, inc->engine, true, 0, err);
+    if (!st && inc->m_count && !(st = read_power(s, inc, err)))
+        st = fix_static_layout(s, inc, inc->power.alloc.mapped, err);
+    if (!st && inc->m_count && getenv("XRAD_INCR_RESOLVE"))
+        st = progressive_run(s, inc->engine, true, 0, err);
+    solver_collect_times(s);
+    return st;
 }
 
 /* What the previous steps wrote (B, Bu, values, hemicube images) is
@@ -461,12 +519,6 @@ static xrad_status shoot(xrad_solver *s, incremental *inc, uint32_t mode, uint32
             record_chunk(s, inc, c.cmd, mode, first + done, n);
             done += n;
         }
-        if (done == count && mode == INCR_MODE_NEGATIVE) {
-            compute_barrier(c.cmd);
-            gpu_timer_begin(s->timer, c.cmd, "incr.update");
-            incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_POWER, 0, 0);
-            gpu_timer_end(s->timer, c.cmd);
-        }
         if ((st = finish(s, &c, err)))
             return st;
     } while (done < count);
@@ -487,10 +539,9 @@ static xrad_status redistribute(xrad_solver *s, incremental *inc, double time, x
     xrad_status st = shoot(s, inc, INCR_MODE_NEGATIVE, 0, inc->m_count, err);
     if (st)
         return st;
-    /* The GPU is done: the powers are readable and the geometry may be
-     * replaced. The pose upload's one-shot copies are submissions the host
-     * waits for: count them from the context's submission counter. */
-    inc->c_count = layout_static_shooters(s, inc, inc->power.alloc.mapped, host + inc->m_count);
+    /* The GPU is done: the geometry may be replaced. The pose upload's
+     * one-shot copies are submissions the host waits for: count them from
+     * the context's submission counter. */
     uint64_t before = ctx->timeline_value;
     st = gpu_scene_pose(ctx, &s->gs, time, err);
     s->stats.submissions += (uint32_t)(ctx->timeline_value - before);
@@ -498,9 +549,7 @@ static xrad_status redistribute(xrad_solver *s, incremental *inc, double time, x
     if (st)
         return st;
     /* Steps 2-3. */
-    st = shoot(s, inc, INCR_MODE_INCREMENT, inc->m_count, inc->c_count, err);
-    inc->frame++;
-    return st;
+    return shoot(s, inc, INCR_MODE_INCREMENT, inc->m_count, inc->c_count, err);
 }
 
 static xrad_status advance(xrad_solver *s, double time, xrad_error *err)

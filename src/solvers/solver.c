@@ -5,6 +5,7 @@
 #include <time.h>
 
 #include "core/error.h"
+#include "gpu/cmd.h"
 #include "gpu/context.h"
 #include "solvers/solver.h"
 
@@ -204,6 +205,18 @@ xrad_status xrad_solver_read(xrad_solver *s, xrad_atlas *atlas, xrad_error *err)
 }
 
 void xrad_solver_get_stats(const xrad_solver *s, xrad_solver_stats *stats) { *stats = s->stats; }
+
+xrad_status solver_submit_wait(xrad_solver *s, gpu_cmd *c, xrad_error *err)
+{
+    xrad_status st = gpu_cmd_submit(s->ctx, c, err);
+    if (!st) {
+        s->stats.submissions++;
+        st = gpu_cmd_wait(s->ctx, c, err);
+        s->stats.host_waits++;
+    }
+    gpu_cmd_destroy(s->ctx, c);
+    return st ? st : gpu_timer_collect(s->ctx, s->timer, err);
+}
 
 void solver_collect_times(xrad_solver *s)
 {

@@ -26,6 +26,8 @@ typedef struct solver_ops {
     xrad_status (*advance)(struct xrad_solver *s, double time, xrad_error *err);
 } solver_ops;
 
+struct gpu_cmd;
+
 struct xrad_solver {
     struct xrad_context *ctx;
     const xrad_scene *scene;
@@ -42,6 +44,10 @@ extern const solver_ops gather_ops;
 extern const solver_ops progressive_ops;
 extern const solver_ops incremental_ops;
 extern const solver_ops cross_ops;
+
+/* Submits c, waits for it, counts both in s->stats, frees c and collects
+ * the timer's intervals. */
+xrad_status solver_submit_wait(struct xrad_solver *s, struct gpu_cmd *c, xrad_error *err);
 
 /* Host monotonic clock, ms. */
 double solver_now_ms(void);
