@@ -33,6 +33,26 @@ layout(std430, binding = CROSS_UPDATE_BINDING_GATHERED) readonly buffer Gathered
 layout(std430, binding = CROSS_UPDATE_BINDING_OUT) writeonly buffer Out { vec4 outv[]; };
 layout(std430, binding = CROSS_UPDATE_BINDING_SURFACE_PATCH) readonly buffer SurfacePatch { uint surface_patch[]; };
 
+// Parameter of coarse sample c of n along a side: the centroid of its cell
+// (the part of the side within half a spacing, clipped), where the gather
+// hemicube of its patch sits (solvers/dynamic_patches.c).
+float knot(uint c, uint n)
+{
+    float h = 1.0 / float(n - 1u);
+    return 0.5 * (max(0.0, (float(c) - 0.5) * h) + min(1.0, (float(c) + 0.5) * h));
+}
+
+// The segment [knot(c0), knot(c0 + 1)] holding s (clamped to the outer
+// knots) and s's fraction along it.
+float bracket(float s, uint n, out uint c0)
+{
+    c0 = 0u;
+    while (c0 + 2u < n && s > knot(c0 + 1u, n))
+        c0++;
+    float a = knot(c0, n), b = knot(c0 + 1u, n);
+    return clamp((s - a) / (b - a), 0.0, 1.0);
+}
+
 // Area mean over the patch's elements of B - Bu (shot) or B.
 vec3 patch_mean(cross_patch p, bool shot)
 {
@@ -78,16 +98,18 @@ void main()
         return;
     }
     // GATHERED: the element's sample parameters (i / (nu - 1), j / (nv - 1),
-    // scene.h) in its surface's grid of cx x cy coarse samples, whose
-    // patches are row-major in (ci, cj) from surface_patch[surface].
+    // scene.h) against its surface's grid of cx x cy coarse samples, whose
+    // patches are row-major in (ci, cj) from surface_patch[surface] and
+    // whose values were gathered at their cells' centroids (knot()):
+    // linear between those points, constant beyond the outer ones.
     uint first = surface_patch[elements[k].surface];
     uint cx = patches[first].cx, cy = patches[first].cy;
     uint ke = k - sf.first_element;
-    vec2 st = vec2(float(ke % sf.nu) / float(sf.nu - 1u), float(ke / sf.nu) / float(sf.nv - 1u));
-    vec2 f = st * vec2(float(cx - 1u), float(cy - 1u));
-    uvec2 c0 = min(uvec2(floor(f)), uvec2(cx - 2u, cy - 2u));
-    f -= vec2(c0);
-    uint p00 = first + c0.y * cx + c0.x;
+    uint c0x, c0y;
+    float fx = bracket(float(ke % sf.nu) / float(sf.nu - 1u), cx, c0x);
+    float fy = bracket(float(ke / sf.nu) / float(sf.nv - 1u), cy, c0y);
+    vec2 f = vec2(fx, fy);
+    uint p00 = first + c0y * cx + c0x;
     vec3 g = mix(mix(gathered[p00].rgb, gathered[p00 + 1u].rgb, f.x),
                  mix(gathered[p00 + cx].rgb, gathered[p00 + cx + 1u].rgb, f.x), f.y);
     B[k] = vec4(m.emission.rgb + m.albedo.rgb * g, 0.0);
