@@ -90,7 +90,7 @@ void reset(uint e)
         vec3 emission = materials[sf.material].emission.rgb;
         B[e] = vec4(emission, 0.0);
         Bu[e] = vec4(emission, 0.0);
-    } else if (pc.deferred == 0u) {
+    } else {
         Bu[e] = vec4(0.0);
     }
 }
@@ -129,13 +129,7 @@ void receive(uint e)
         } else if (moving) {
             if (!shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u))
                 continue;
-            r = pc.deferred != 0u ? values[k].shot.rgb : values[k].total.rgb;
-        } else if (pc.deferred != 0u) {
-            bool was = shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u);
-            bool is = shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u);
-            if (was == is)
-                continue;
-            r = is ? values[k].shot.rgb : -values[k].shot.rgb;
+            r = values[k].total.rgb;
         } else {
             bool was = shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u);
             bool is = shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u);

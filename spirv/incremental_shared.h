@@ -10,7 +10,8 @@
  *   values[k]    incr_value       what shooter k shoots, captured before any
  *                                 of the redistribution's shots changes it
  *   power[s]     float            per surface: |luminance(sum_e B_e A_e)| on
- *                                 C, 0 on M (host-visible, read per frame)
+ *                                 C, 0 on M (host-visible, read once per solve
+ *                                 to fix C's patches)
  *   ids_old/new  R32_UINT arrays  the chunk's ID hemicubes at the old and the
  *                                 new pose; shooter first + h in layers h*5..
  */
@@ -54,7 +55,7 @@ struct incr_push {
     uint hemicube_res;  /* pixels per face side of the ID hemicubes */
     uint neighbours;    /* 1: nearest-texel visibility check (thesis 4.3.3) */
     float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
-    uint deferred;      /* 1: INCREMENT moves shot radiosity only, RESET keeps C's Bu */
+    float pad0;
 };
 
 #endif

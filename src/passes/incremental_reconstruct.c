@@ -86,7 +86,6 @@ void incremental_reconstruct_record(incremental_reconstruct_pass *p, VkCommandBu
         .hemicube_res = q->hemicube_res,
         .neighbours = 1u,
         .subdivide_ratio = (float)q->subdivide_ratio,
-        .deferred = q->deferred ? 1u : 0u,
     };
     /* Shooting steps run one invocation per receiving element. */
     uint32_t invocations = mode == INCR_MODE_NEGATIVE || mode == INCR_MODE_INCREMENT

@@ -12,7 +12,6 @@
 #ifndef XRAD_PASSES_INCREMENTAL_RECONSTRUCT_H
 #define XRAD_PASSES_INCREMENTAL_RECONSTRUCT_H
 
-#include <stdbool.h>
 #include <stdint.h>
 #include <vulkan/vulkan.h>
 
@@ -39,7 +38,6 @@ typedef struct incremental_reconstruct_params {
     uint32_t element_count, surface_count;
     uint32_t hemicube_res;  /* pixels per face side of the ID hemicubes */
     double subdivide_ratio; /* > 0: exact form factor where A_s / r^2 exceeds it */
-    bool deferred;          /* the shot-only redistribution (spirv/incremental_shared.h) */
 } incremental_reconstruct_params;
 
 xrad_status incremental_reconstruct_create(struct xrad_context *ctx,
