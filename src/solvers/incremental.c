@@ -488,14 +488,7 @@ static xrad_status finish(xrad_solver *s, gpu_cmd *c, xrad_error *err)
                        VK_PIPELINE_STAGE_HOST_BIT | VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
                        VK_ACCESS_HOST_READ_BIT | VK_ACCESS_MEMORY_READ_BIT |
                            VK_ACCESS_MEMORY_WRITE_BIT);
-    xrad_status st = gpu_cmd_submit(s->ctx, c, err);
-    if (!st) {
-        s->stats.submissions++;
-        st = gpu_cmd_wait(s->ctx, c, err);
-        s->stats.host_waits++;
-    }
-    gpu_cmd_destroy(s->ctx, c);
-    return st ? st : gpu_timer_collect(s->ctx, s->timer, err);
+    return solver_submit_wait(s, c, err);
 }
 
 /* Shoots table entries [first, first + count) in chunks, as many chunks per

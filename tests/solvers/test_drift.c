@@ -7,25 +7,10 @@
  * reported. Incremental radiosity is run the same way for comparison. */
 #include <stdio.h>
 
-#include "gpu/gpu_test.h"
+#include "solvers/solver_test.h"
 
 #define FRAMES 1000
 #define FPS 30.0
-
-static float *render(xrad_context *ctx, const xrad_scene *scene, xrad_solver *s, double t,
-                     uint32_t *w, uint32_t *h)
-{
-    xrad_error err = {0};
-    xrad_atlas a = {0};
-    float *img = NULL;
-    xrad_view_desc v = {.time = t, .width = 192, .height = 192};
-    CHECK(xrad_atlas_create(scene, &a, &err) == XRAD_OK &&
-              xrad_solver_read(s, &a, &err) == XRAD_OK &&
-              xrad_render_view(ctx, scene, &a, &v, &img, w, h, &err) == XRAD_OK,
-          "render: %s", err.message);
-    xrad_atlas_destroy(&a);
-    return img;
-}
 
 /* NRMSE of `frames` frames of `m` from t = 0 against a fresh solve at the end. */
 static double drift(xrad_context *ctx, const xrad_scene *scene, xrad_method m, int recompute,
@@ -47,7 +32,7 @@ static double drift(xrad_context *ctx, const xrad_scene *scene, xrad_method m, i
     }
     CHECK(st == XRAD_OK, "%s: advance: %s", xrad_method_name(m), err.message);
     uint32_t w, h;
-    float *img = s && !st ? render(ctx, scene, s, frames / FPS, &w, &h) : NULL;
+    float *img = s && !st ? solver_test_render(ctx, scene, s, frames / FPS, &w, &h) : NULL;
     if (img) {
         e = xrad_image_nrmse(img, fresh, w, h);
         fprintf(stderr, "drift %s%s: %u frames, NRMSE %.5f vs a fresh solve, %.1f ms per frame\n",
@@ -79,7 +64,7 @@ int main(void)
               xrad_solver_solve(f, &err) == XRAD_OK,
           "fresh: %s", err.message);
     uint32_t w, h;
-    float *fresh = f ? render(ctx, scene, f, FRAMES / FPS, &w, &h) : NULL;
+    float *fresh = f ? solver_test_render(ctx, scene, f, FRAMES / FPS, &w, &h) : NULL;
     xrad_solver_destroy(&f);
     if (fresh) {
         double cached = drift(ctx, scene, XRAD_METHOD_CROSS, 0, fresh, FRAMES);

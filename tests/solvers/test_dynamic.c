@@ -17,25 +17,10 @@
 #include <stdbool.h>
 #include <stdio.h>
 
-#include "gpu/gpu_test.h"
+#include "solvers/solver_test.h"
 #include "scene/scene.h"
 
-static float *render(xrad_context *ctx, const xrad_scene *scene, xrad_solver *s, double t,
-                     uint32_t *w, uint32_t *h)
-{
-    xrad_error err = {0};
-    xrad_atlas a = {0};
-    float *img = NULL;
-    xrad_view_desc v = {.time = t, .width = 192, .height = 192};
-    CHECK(xrad_atlas_create(scene, &a, &err) == XRAD_OK &&
-              xrad_solver_read(s, &a, &err) == XRAD_OK &&
-              xrad_render_view(ctx, scene, &a, &v, &img, w, h, &err) == XRAD_OK,
-          "render: %s", err.message);
-    xrad_atlas_destroy(&a);
-    return img;
-}
-
-/* The CPU reference solution at scene time t, rendered as render() does. */
+/* The CPU reference solution at scene time t, rendered as solver_test_render() does. */
 static float *reference_image(xrad_context *ctx, const xrad_scene *scene, double t, uint32_t w,
                               uint32_t h)
 {
@@ -143,12 +128,12 @@ static void move_test(xrad_context *ctx, const char *rel, xrad_method m, double 
     xrad_solver *s = solver_at(ctx, scene, m, ta);
     xrad_solver *fresh = solver_at(ctx, scene, XRAD_METHOD_PROGRESSIVE, tb);
     if (s && fresh) {
-        float *at_a = render(ctx, scene, s, tb, &w, &h);
+        float *at_a = solver_test_render(ctx, scene, s, tb, &w, &h);
         CHECK(xrad_solver_advance(s, tb, &err) == XRAD_OK, "advance: %s", err.message);
         xrad_solver_stats st;
         xrad_solver_get_stats(s, &st);
-        float *moved = render(ctx, scene, s, tb, &w, &h);
-        float *want = render(ctx, scene, fresh, tb, &w, &h);
+        float *moved = solver_test_render(ctx, scene, s, tb, &w, &h);
+        float *want = solver_test_render(ctx, scene, fresh, tb, &w, &h);
         if (at_a && moved && want) {
             double e = xrad_image_nrmse(moved, want, w, h);
             double stale = xrad_image_nrmse(at_a, want, w, h);
@@ -305,11 +290,11 @@ static void symmetry_test(xrad_context *ctx, const char *rel, xrad_method m, dou
     uint32_t w, h;
     xrad_solver *s = solver_at(ctx, scene, m, ta);
     if (s) {
-        float *first = render(ctx, scene, s, ta, &w, &h);
+        float *first = solver_test_render(ctx, scene, s, ta, &w, &h);
         CHECK(xrad_solver_advance(s, tb, &err) == XRAD_OK &&
                   xrad_solver_advance(s, ta, &err) == XRAD_OK,
               "advance: %s", err.message);
-        float *back = render(ctx, scene, s, ta, &w, &h);
+        float *back = solver_test_render(ctx, scene, s, ta, &w, &h);
         if (first && back) {
             double e = xrad_image_nrmse(back, first, w, h);
             fprintf(stderr, "symmetry %s %s %.2f -> %.2f -> %.2f s: NRMSE %.5f\n", rel,
@@ -333,11 +318,11 @@ static void static_scene_test(xrad_context *ctx, xrad_method m)
     uint32_t w, h;
     xrad_solver *s = solver_at(ctx, scene, m, 0);
     if (s) {
-        float *a = render(ctx, scene, s, 0, &w, &h);
+        float *a = solver_test_render(ctx, scene, s, 0, &w, &h);
         CHECK(xrad_solver_advance(s, 1, &err) == XRAD_OK, "advance: %s", err.message);
         xrad_solver_stats st;
         xrad_solver_get_stats(s, &st);
-        float *b = render(ctx, scene, s, 1, &w, &h);
+        float *b = solver_test_render(ctx, scene, s, 1, &w, &h);
         CHECK(st.hemicubes == 0, "%s: %u hemicubes for a static scene", xrad_method_name(m),
               st.hemicubes);
         if (a && b)
