@@ -25,10 +25,13 @@
  *      new-pose F and P of every pair are kept too, and the old pose's
  *      terms are read from there instead of evaluated again.
  *   3. R_g(C, M): integrate the gather hemicubes; the elements of M take
- *      B = E + rho x (their surface's coarse samples, bilinear), Bu = 0
+ *      B = E + rho x (their surface's coarse samples, interpolated), Bu = 0
  *      (GATHERED), and T.total = area mean of B per patch (TOTAL).
  *   4-5. R_p(M, M) and R_p(M, C) + R_x(C, C) in one pass (cross_reconstruct).
  *   6. Progressive iterations (solvers/progressive.h), desc.frame_shots.
+ *      They shoot the surfaces of M with the same fixed patches and
+ *      hemicube rotations (dynamic_patches_fix), so that what step 5
+ *      removes next frame is, block for block, what was shot.
  *
  * The old and new pose's hemicubes live in two slots that alternate: slot
  * `slot` holds the pose in hand. B^s of C does not change within a
