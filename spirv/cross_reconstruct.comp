@@ -177,25 +177,34 @@ int back_face(vec3 d, out vec2 t)
 BACK_SAMPLERS(back_old, back_old)
 BACK_SAMPLERS(back_new, back_new)
 
-// Form factor from x (normal ne) to the front of patch p at the pose of
-// `slot`, 0 where the patch faces away from x or x from it; `local` gets
-// x's direction in the patch's ID hemicube, which the caller tests.
-float patch_form_factor(uint slot, uint p, vec3 x, vec3 ne, out vec3 local)
+// Where x (normal ne) and the front of patch p at the pose of `slot` face
+// each other: x's offset d from the patch centre, the two cosines and x's
+// direction in the patch's ID hemicube.
+bool patch_facing(uint slot, uint p, vec3 x, vec3 ne, out vec3 d, out vec2 cosines,
+                  out vec3 local)
 {
     gpu_shooter f = frame(slot, CROSS_FRAMES_FRONT, p);
-    vec3 d = x - f.pos_area.xyz;
-    float cs = dot(d, f.normal.xyz), ce = -dot(d, ne);
+    d = x - f.pos_area.xyz;
+    cosines = vec2(dot(d, f.normal.xyz), -dot(d, ne));
     local = vec3(0.0);
-    if (cs <= 0.0 || ce <= 0.0)
-        return 0.0;
+    if (cosines.x <= 0.0 || cosines.y <= 0.0)
+        return false;
     local = basis(f) * d;
-    float area = f.pos_area.w;
+    return true;
+}
+
+// The form factor from x to patch p (spirv/shooting.glsl), once
+// patch_facing said yes and the ID hemicube showed x: asked after the
+// visibility test because the near-field form factor costs more.
+float patch_form_factor(uint slot, uint p, vec3 x, vec3 ne, vec3 d, vec2 cosines)
+{
+    float area = frame(slot, CROSS_FRAMES_FRONT, p).pos_area.w;
     if (shooting_near(d, area, pc.subdivide_ratio)) {
         cross_quad q = quads[slot * pc.patch_count + p];
         return shooting_point_to_quad(x, ne, vec3[4](q.corner[0].xyz, q.corner[1].xyz,
                                                      q.corner[2].xyz, q.corner[3].xyz));
     }
-    return shooting_disk(d, cs, ce, area);
+    return shooting_disk(d, cosines.x, cosines.y, area);
 }
 
 void main()
@@ -211,13 +220,15 @@ void main()
     uint id = se + 1u;
     vec3 gathered = vec3(0.0);
     for (uint p = 0u; p < pc.patch_count; p++) {
-        vec3 local;
+        vec3 d, local;
+        vec2 cosines;
         if (sr.dynamic != 0u) {
             if (frame(pc.new_slot, CROSS_FRAMES_FRONT, p).surface == se)
                 continue;
-            float ff = patch_form_factor(pc.new_slot, p, x, ne, local);
-            if (ff > 0.0 && shooting_visible(ids_new, pc.hemicube_res, true, local, p, id))
-                gathered += ff * values[p].total.rgb;
+            if (patch_facing(pc.new_slot, p, x, ne, d, cosines, local) &&
+                shooting_visible(ids_new, pc.hemicube_res, true, local, p, id))
+                gathered += patch_form_factor(pc.new_slot, p, x, ne, d, cosines) *
+                            values[p].total.rgb;
             continue;
         }
         uint pair = p * pc.element_count + e;
@@ -225,14 +236,15 @@ void main()
             vec4 o = pairs[pair];
             if (o.w > 0.0)
                 gathered += o.w * (o.xyz - values[p].shot.rgb);
-        } else {
-            float f_old = patch_form_factor(pc.old_slot, p, x, ne, local);
-            if (f_old > 0.0 && shooting_visible(ids_old, pc.hemicube_res, true, local, p, id))
-                gathered += f_old * (back_old_projected(pc.old_slot, p, x, ne) - values[p].shot.rgb);
+        } else if (patch_facing(pc.old_slot, p, x, ne, d, cosines, local) &&
+                   shooting_visible(ids_old, pc.hemicube_res, true, local, p, id)) {
+            float f_old = patch_form_factor(pc.old_slot, p, x, ne, d, cosines);
+            gathered += f_old * (back_old_projected(pc.old_slot, p, x, ne) - values[p].shot.rgb);
         }
-        float f_new = patch_form_factor(pc.new_slot, p, x, ne, local);
         vec4 kept = vec4(0.0);
-        if (f_new > 0.0 && shooting_visible(ids_new, pc.hemicube_res, true, local, p, id)) {
+        if (patch_facing(pc.new_slot, p, x, ne, d, cosines, local) &&
+            shooting_visible(ids_new, pc.hemicube_res, true, local, p, id)) {
+            float f_new = patch_form_factor(pc.new_slot, p, x, ne, d, cosines);
             vec3 projected = back_new_projected(pc.new_slot, p, x, ne);
             gathered += f_new * (values[p].total.rgb - projected);
             kept = vec4(projected, f_new);
