@@ -192,10 +192,12 @@ typedef struct xrad_solver_desc {
     /* cross: 1 samples the back hemicubes at the nearest texel instead of
      * bilinearly across the cube's face edges (thesis 4.5.2); default 0. */
     int back_nearest;
-    /* cross: 1 renders all four hemicubes of a patch every redistribution
-     * (the thesis); default 0 keeps the last redistribution's new-pose
-     * hemicubes as the next one's old-pose hemicubes, so that exactly what
-     * was inserted is removed (thesis 6.2). */
+    /* cross: 1 renders the old pose's hemicubes of every patch again each
+     * redistribution (the thesis; 5 hemicubes per patch and frame); default
+     * 0 keeps the last redistribution's new-pose hemicubes, and where
+     * memory allows each element-patch pair's terms, as the next one's old
+     * pose, so that exactly what was inserted is removed (thesis 6.2; 3
+     * hemicubes per patch and frame). */
     int cross_recompute;
 } xrad_solver_desc;
 
@@ -243,7 +245,8 @@ xrad_status xrad_solver_solve(xrad_solver *solver, xrad_error *err);
 xrad_status xrad_solver_advance(xrad_solver *solver, double time, xrad_error *err);
 
 /* Poses dynamic objects at scene time `time` (s) for the following solves;
- * the solution in hand is kept until the next xrad_solver_solve. */
+ * the solution in hand is kept until the next xrad_solver_solve, but no
+ * longer counts as a solution at the pose (the next advance solves anew). */
 xrad_status xrad_solver_set_time(xrad_solver *solver, double time, xrad_error *err);
 
 /* The current solution B in the scene's atlas layout. */
