@@ -71,28 +71,13 @@ gpu_shooter frame(uint slot, uint table, uint p)
     return frames[(slot * CROSS_FRAME_TABLES + table) * pc.patch_count + p];
 }
 
-// The local frame of a hemicube (as spirv/hemicube_vert.glsl builds it).
+// The local frame of a hemicube (as spirv/hemicube_vert.glsl builds it;
+// the host wrote unit, orthogonal normal and tangent,
+// solvers/dynamic_patches.c).
 mat3 basis(gpu_shooter f)
 {
-    vec3 z = normalize(f.normal.xyz);
-    vec3 x = normalize(f.tangent.xyz - dot(f.tangent.xyz, z) * z);
+    vec3 z = f.normal.xyz, x = f.tangent.xyz;
     return transpose(mat3(x, cross(z, x), z));
-}
-
-// Face of a local direction (d.z > 0) and its continuous pixel coordinate
-// at resolution res: hemicube_lookup without the clamp and the table
-// lookups, which cost more than the arithmetic in this inner loop.
-int back_face(vec3 d, out vec2 t)
-{
-    int face = 0;
-    vec2 ab = d.xy / d.z;
-    float best = d.z;
-    if (d.x > best) { face = 1; best = d.x; ab = vec2(d.y, d.z) / d.x; }
-    if (-d.x > best) { face = 2; best = -d.x; ab = vec2(-d.y, d.z) / -d.x; }
-    if (d.y > best) { face = 3; best = d.y; ab = vec2(-d.x, d.z) / d.y; }
-    if (-d.y > best) { face = 4; ab = vec2(d.x, d.z) / -d.y; }
-    t = (ab + 1.0) * 0.5 * float(pc.back_res);
-    return face;
 }
 
 // Samples of the back hemicube of patch p in local direction d (d.z > 0):
@@ -104,14 +89,14 @@ int back_face(vec3 d, out vec2 t)
     vec4 NAME##_nearest(uint p, vec3 d)                                                       \
     {                                                                                         \
         vec2 t;                                                                               \
-        int face = back_face(d, t);                                                           \
+        int face = hemicube_face(d, pc.back_res, t);                                                           \
         ivec2 px = clamp(ivec2(floor(t)), ivec2(0), ivec2(int(pc.back_res) - 1));              \
         return texelFetch(TEX, ivec3(px, int(p) * HEMICUBE_FACES + face), 0);                 \
     }                                                                                         \
     vec4 NAME##_bilinear(uint p, vec3 d)                                                      \
     {                                                                                         \
         vec2 t;                                                                               \
-        int face = back_face(d, t);                                                           \
+        int face = hemicube_face(d, pc.back_res, t);                                                           \
         int base = int(p) * HEMICUBE_FACES;                                                   \
         int last = int(pc.back_res) - 1;                                                      \
         t -= 0.5;                                                                             \
@@ -132,7 +117,7 @@ int back_face(vec3 d, out vec2 t)
                            tab.y * HEMICUBE_UP[face];                                         \
                 dir.z = max(dir.z, 1e-6);                                                     \
                 vec2 q;                                                                       \
-                int qf = back_face(dir, q);                                                   \
+                int qf = hemicube_face(dir, pc.back_res, q);                                                   \
                 ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), ivec2(last));                     \
                 c[k] = texelFetch(TEX, ivec3(qi, base + qf), 0);                              \
             }                                                                                 \

@@ -22,17 +22,30 @@ vec4 hemicube_clip(vec3 d, int face, float near)
                 dot(d, HEMICUBE_FORWARD[face]));
 }
 
+// Face of a local direction with d.z > 0, and its continuous pixel
+// coordinate at resolution res: (right, up) . d / (forward . d), from [-1, 1]
+// to [0, res]. The face's axes are written out rather than read from the
+// tables above: a table indexed at run time costs more than the rest of
+// the lookup on lavapipe, and these are the same numbers.
+int hemicube_face(vec3 d, uint res, out vec2 t)
+{
+    int face = 0;
+    vec2 ab = d.xy / d.z;
+    float best = d.z;
+    if (d.x > best) { face = 1; best = d.x; ab = vec2(d.y, d.z) / d.x; }
+    if (-d.x > best) { face = 2; best = -d.x; ab = vec2(-d.y, d.z) / -d.x; }
+    if (d.y > best) { face = 3; best = d.y; ab = vec2(-d.x, d.z) / d.y; }
+    if (-d.y > best) { face = 4; ab = vec2(d.x, d.z) / -d.y; }
+    t = (ab + 1.0) * 0.5 * float(res);
+    return face;
+}
+
 // Face of a local direction with d.z > 0, and its pixel at resolution res.
 int hemicube_lookup(vec3 d, uint res, out uvec2 px)
 {
-    int face = 0;
-    float best = d.z;
-    if (d.x > best) { face = 1; best = d.x; }
-    if (-d.x > best) { face = 2; best = -d.x; }
-    if (d.y > best) { face = 3; best = d.y; }
-    if (-d.y > best) { face = 4; best = -d.y; }
-    vec2 ab = vec2(dot(d, HEMICUBE_RIGHT[face]), dot(d, HEMICUBE_UP[face])) / best;
-    px = uvec2(clamp(floor((ab + 1.0) * 0.5 * float(res)), vec2(0), vec2(float(res - 1u))));
+    vec2 t;
+    int face = hemicube_face(d, res, t);
+    px = uvec2(clamp(floor(t), vec2(0), vec2(float(res - 1u))));
     return face;
 }
 
