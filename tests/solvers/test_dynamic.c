@@ -3,8 +3,8 @@
  *  - move: converged at pose A, one redistribution to pose B plus
  *    progressive iterations equals a fresh progressive solve at B (image
  *    NRMSE < 0.01 on cornell-large and cornell-small, whose turning box
- *    changes the picture little); on a box (and, in a second scene, two
- *    objects) sliding through a room it reproduces most of the change A ->
+ *    changes the picture little); on a box (and, in other scenes, two
+ *    objects, or the box and the light) sliding through a room it reproduces most of the change A ->
  *    B (a method that did nothing would not) and is as near the CPU
  *    reference as the fresh solve;
  *  - sign: a black occluder entering between a light and a floor (only
@@ -105,6 +105,23 @@ static const char *two_json =
     " \"camera\": {\"position\": [0.5, 0.5, 0.02], \"look_at\": [0.5, 0.5, 1],"
     "   \"fov_degrees\": 70, \"width\": 64, \"height\": 64}}";
 
+/* The sliding box's room with its light moving too: M holds the emitter. */
+static const char *lamp_json =
+    "{\"unit\": \"m\", \"density\": 12, \"materials\": [{\"name\": \"white\", \"albedo\": [0.6, "
+    "0.6, 0.6]}, {\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [20, 20, 20]}], "
+    "\"objects\": [{\"name\": \"room\", \"surfaces\": [{\"name\": \"walls\", \"material\": \"white\", "
+    "\"box\": {\"origin\": [0, 0, 0], \"u\": [1, 0, 0], \"v\": [0, 1, 0], \"w\": [0, 0, 1]}, "
+    "\"inward\": true}]}, {\"name\": \"box\", \"dynamic\": true, \"cross_density\": 8, "
+    "\"surfaces\": [{\"name\": \"b\", \"material\": \"white\", \"box\": {\"origin\": [0.2, 0.05, "
+    "0.35], \"u\": [0.25, 0, 0], \"v\": [0, 0.3, 0], \"w\": [0, 0, 0.25]}}], \"animation\": "
+    "{\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]}, {\"time\": 1, \"translate\": "
+    "[0.3, 0, 0]}], \"loop\": false}}, {\"name\": \"lampobj\", \"dynamic\": true, "
+    "\"cross_density\": 20, \"surfaces\": [{\"name\": \"light\", \"material\": \"lamp\", \"quad\": "
+    "{\"origin\": [0.4, 0.99, 0.4], \"u\": [0.2, 0, 0], \"v\": [0, 0, 0.2]}}], \"animation\": "
+    "{\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]}, {\"time\": 1, \"translate\": "
+    "[0.25, 0, 0.1]}], \"loop\": false}}], \"camera\": {\"position\": [0.5, 0.5, 0.02], "
+    "\"look_at\": [0.5, 0.5, 1], \"fov_degrees\": 70, \"width\": 64, \"height\": 64}}";
+
 /* Converge at ta, redistribute to tb; against a fresh progressive solve at
  * tb. With `followed`, the result must also be much nearer the fresh
  * solution than the unmoved one is (where the move changes the picture
@@ -117,10 +134,13 @@ static void move_test(xrad_context *ctx, const char *rel, xrad_method m, double 
     if (strstr(rel, "scenes/") == rel)
         scene = load(rel);
     else
-        CHECK(xrad_scene_parse(strcmp(rel, "two.json") ? slide_json : two_json,
-                               strlen(strcmp(rel, "two.json") ? slide_json : two_json), rel,
-                               &scene, &perr) == XRAD_OK,
-              "%s", perr.message);
+    {
+        const char *json = !strcmp(rel, "two.json")    ? two_json
+                           : !strcmp(rel, "lamp.json") ? lamp_json
+                                                       : slide_json;
+        CHECK(xrad_scene_parse(json, strlen(json), rel, &scene, &perr) == XRAD_OK, "%s",
+              perr.message);
+    }
     if (!scene)
         return;
     xrad_error err = {0};
@@ -348,6 +368,7 @@ int main(void)
         move_test(ctx, "scenes/cornell-small.json", m, 0, 2.25, false);
         move_test(ctx, "slide.json", m, 0, 1, true);
         move_test(ctx, "two.json", m, 0, 1, true);
+        move_test(ctx, "lamp.json", m, 0, 1, true);
         sign_test(ctx, m);
         symmetry_test(ctx, "scenes/cornell-large.json", m, 0, 2.25);
         static_scene_test(ctx, m);
