@@ -60,67 +60,52 @@ static xrad_scene *load(const char *rel)
     return scene;
 }
 
-/* A room with a ceiling light and a box sliding 0.3 m along x in 1 s (as
- * tests/solvers/test_frames.c): its shadow moves far, so a solution that
- * did not follow the box is far from the fresh one. */
+/* A 1 m room with a ceiling light and a box sliding 0.3 m along x in 1 s
+ * (as tests/solvers/test_frames.c): its shadow moves far, so a solution
+ * that did not follow the box is far from the fresh one. Two variants: a
+ * second, flat red box slides the other way under the light; the light
+ * itself moves (M holds the emitter). */
+#define ROOM_MATERIALS                                                                        \
+    "{\"unit\": \"m\", \"density\": 12,"                                                        \
+    " \"materials\": [{\"name\": \"white\", \"albedo\": [0.6, 0.6, 0.6]},"                      \
+    "   {\"name\": \"red\", \"albedo\": [0.7, 0.2, 0.1]},"                                      \
+    "   {\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [20, 20, 20]}],"
+#define ROOM_WALLS                                                                            \
+    "   {\"name\": \"walls\", \"material\": \"white\", \"box\": {\"origin\": [0, 0, 0],"        \
+    "     \"u\": [1, 0, 0], \"v\": [0, 1, 0], \"w\": [0, 0, 1]}, \"inward\": true}"
+#define ROOM_LIGHT                                                                            \
+    "   {\"name\": \"light\", \"material\": \"lamp\", \"quad\": {\"origin\": [0.4, 0.99, 0.4]," \
+    "     \"u\": [0.2, 0, 0], \"v\": [0, 0, 0.2]}}"
+#define SLIDE(name, cross_density, material, size, translate)                                 \
+    "  {\"name\": \"" name "\", \"dynamic\": true, \"cross_density\": " cross_density ","       \
+    "   \"surfaces\": [{\"name\": \"" name ".s\", \"material\": \"" material "\", "             \
+    size "}],"                                                                                \
+    "   \"animation\": {\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]},"              \
+    "     {\"time\": 1, \"translate\": " translate "}], \"loop\": false}}"
+#define ROOM_BOX                                                                              \
+    SLIDE("box", "8", "white", "\"box\": {\"origin\": [0.2, 0.05, 0.35], \"u\": [0.25, 0, 0],"  \
+          " \"v\": [0, 0.3, 0], \"w\": [0, 0, 0.25]}", "[0.3, 0, 0]")
+#define ROOM_CAMERA                                                                           \
+    " \"camera\": {\"position\": [0.5, 0.5, 0.02], \"look_at\": [0.5, 0.5, 1],"                  \
+    "   \"fov_degrees\": 70, \"width\": 64, \"height\": 64}}"
+
 static const char *slide_json =
-    "{\"unit\": \"m\", \"density\": 12,"
-    " \"materials\": [{\"name\": \"white\", \"albedo\": [0.6, 0.6, 0.6]},"
-    "   {\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [20, 20, 20]}],"
-    " \"objects\": [{\"name\": \"room\", \"surfaces\": ["
-    "   {\"name\": \"walls\", \"material\": \"white\", \"box\": {\"origin\": [0, 0, 0],"
-    "     \"u\": [1, 0, 0], \"v\": [0, 1, 0], \"w\": [0, 0, 1]}, \"inward\": true},"
-    "   {\"name\": \"light\", \"material\": \"lamp\", \"quad\": {\"origin\": [0.4, 0.99, 0.4],"
-    "     \"u\": [0.2, 0, 0], \"v\": [0, 0, 0.2]}}]},"
-    "  {\"name\": \"box\", \"dynamic\": true, \"cross_density\": 8, \"surfaces\": ["
-    "   {\"name\": \"b\", \"material\": \"white\", \"box\": {\"origin\": [0.2, 0.05, 0.35],"
-    "     \"u\": [0.25, 0, 0], \"v\": [0, 0.3, 0], \"w\": [0, 0, 0.25]}}],"
-    "   \"animation\": {\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]},"
-    "     {\"time\": 1, \"translate\": [0.3, 0, 0]}], \"loop\": false}}],"
-    " \"camera\": {\"position\": [0.5, 0.5, 0.02], \"look_at\": [0.5, 0.5, 1],"
-    "   \"fov_degrees\": 70, \"width\": 64, \"height\": 64}}";
+    ROOM_MATERIALS " \"objects\": [{\"name\": \"room\", \"surfaces\": [" ROOM_WALLS ","
+    ROOM_LIGHT "]}," ROOM_BOX "]," ROOM_CAMERA;
 
-/* The same room with two dynamic objects: a second, flat box slides the
- * other way under the light. */
 static const char *two_json =
-    "{\"unit\": \"m\", \"density\": 12,"
-    " \"materials\": [{\"name\": \"white\", \"albedo\": [0.6, 0.6, 0.6]},"
-    "   {\"name\": \"red\", \"albedo\": [0.7, 0.2, 0.1]},"
-    "   {\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [20, 20, 20]}],"
-    " \"objects\": [{\"name\": \"room\", \"surfaces\": ["
-    "   {\"name\": \"walls\", \"material\": \"white\", \"box\": {\"origin\": [0, 0, 0],"
-    "     \"u\": [1, 0, 0], \"v\": [0, 1, 0], \"w\": [0, 0, 1]}, \"inward\": true},"
-    "   {\"name\": \"light\", \"material\": \"lamp\", \"quad\": {\"origin\": [0.4, 0.99, 0.4],"
-    "     \"u\": [0.2, 0, 0], \"v\": [0, 0, 0.2]}}]},"
-    "  {\"name\": \"box\", \"dynamic\": true, \"cross_density\": 8, \"surfaces\": ["
-    "   {\"name\": \"b\", \"material\": \"white\", \"box\": {\"origin\": [0.2, 0.05, 0.35],"
-    "     \"u\": [0.25, 0, 0], \"v\": [0, 0.3, 0], \"w\": [0, 0, 0.25]}}],"
-    "   \"animation\": {\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]},"
-    "     {\"time\": 1, \"translate\": [0.3, 0, 0]}], \"loop\": false}},"
-    "  {\"name\": \"slab\", \"dynamic\": true, \"cross_density\": 8, \"surfaces\": ["
-    "   {\"name\": \"s\", \"material\": \"red\", \"box\": {\"origin\": [0.6, 0.5, 0.6],"
-    "     \"u\": [0.25, 0, 0], \"v\": [0, 0.04, 0], \"w\": [0, 0, 0.25]}}],"
-    "   \"animation\": {\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]},"
-    "     {\"time\": 1, \"translate\": [-0.35, 0, -0.2]}], \"loop\": false}}],"
-    " \"camera\": {\"position\": [0.5, 0.5, 0.02], \"look_at\": [0.5, 0.5, 1],"
-    "   \"fov_degrees\": 70, \"width\": 64, \"height\": 64}}";
+    ROOM_MATERIALS " \"objects\": [{\"name\": \"room\", \"surfaces\": [" ROOM_WALLS ","
+    ROOM_LIGHT "]}," ROOM_BOX ","
+    SLIDE("slab", "8", "red", "\"box\": {\"origin\": [0.6, 0.5, 0.6], \"u\": [0.25, 0, 0],"
+          " \"v\": [0, 0.04, 0], \"w\": [0, 0, 0.25]}", "[-0.35, 0, -0.2]") "]," ROOM_CAMERA;
 
-/* The sliding box's room with its light moving too: M holds the emitter. */
 static const char *lamp_json =
-    "{\"unit\": \"m\", \"density\": 12, \"materials\": [{\"name\": \"white\", \"albedo\": [0.6, "
-    "0.6, 0.6]}, {\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [20, 20, 20]}], "
-    "\"objects\": [{\"name\": \"room\", \"surfaces\": [{\"name\": \"walls\", \"material\": \"white\", "
-    "\"box\": {\"origin\": [0, 0, 0], \"u\": [1, 0, 0], \"v\": [0, 1, 0], \"w\": [0, 0, 1]}, "
-    "\"inward\": true}]}, {\"name\": \"box\", \"dynamic\": true, \"cross_density\": 8, "
-    "\"surfaces\": [{\"name\": \"b\", \"material\": \"white\", \"box\": {\"origin\": [0.2, 0.05, "
-    "0.35], \"u\": [0.25, 0, 0], \"v\": [0, 0.3, 0], \"w\": [0, 0, 0.25]}}], \"animation\": "
-    "{\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]}, {\"time\": 1, \"translate\": "
-    "[0.3, 0, 0]}], \"loop\": false}}, {\"name\": \"lampobj\", \"dynamic\": true, "
-    "\"cross_density\": 20, \"surfaces\": [{\"name\": \"light\", \"material\": \"lamp\", \"quad\": "
-    "{\"origin\": [0.4, 0.99, 0.4], \"u\": [0.2, 0, 0], \"v\": [0, 0, 0.2]}}], \"animation\": "
-    "{\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]}, {\"time\": 1, \"translate\": "
-    "[0.25, 0, 0.1]}], \"loop\": false}}], \"camera\": {\"position\": [0.5, 0.5, 0.02], "
-    "\"look_at\": [0.5, 0.5, 1], \"fov_degrees\": 70, \"width\": 64, \"height\": 64}}";
+    ROOM_MATERIALS " \"objects\": [{\"name\": \"room\", \"surfaces\": [" ROOM_WALLS "]},"
+    ROOM_BOX ","
+    "  {\"name\": \"lamp\", \"dynamic\": true, \"cross_density\": 20, \"surfaces\": ["
+    ROOM_LIGHT "],"
+    "   \"animation\": {\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]},"
+    "     {\"time\": 1, \"translate\": [0.25, 0, 0.1]}], \"loop\": false}}]," ROOM_CAMERA;
 
 /* Converge at ta, redistribute to tb; against a fresh progressive solve at
  * tb. With `followed`, the result must also be much nearer the fresh
