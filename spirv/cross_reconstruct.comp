@@ -85,78 +85,78 @@ mat3 basis(gpu_shooter f)
 // bilinear with taps beyond a face's edge turned back into directions and
 // read from the face they fall on. One copy per pose slot (macro): a
 // texture chosen at run time would be fetched from both.
-#define BACK_SAMPLERS(NAME, TEX)                                                              \
-    vec4 NAME##_nearest(uint p, vec3 d)                                                       \
-    {                                                                                         \
-        vec2 t;                                                                               \
-        int face = hemicube_face(d, pc.back_res, t);                                                           \
-        ivec2 px = clamp(ivec2(floor(t)), ivec2(0), ivec2(int(pc.back_res) - 1));              \
-        return texelFetch(TEX, ivec3(px, int(p) * HEMICUBE_FACES + face), 0);                 \
-    }                                                                                         \
-    vec4 NAME##_bilinear(uint p, vec3 d)                                                      \
-    {                                                                                         \
-        vec2 t;                                                                               \
-        int face = hemicube_face(d, pc.back_res, t);                                                           \
-        int base = int(p) * HEMICUBE_FACES;                                                   \
-        int last = int(pc.back_res) - 1;                                                      \
-        t -= 0.5;                                                                             \
-        ivec2 t0 = ivec2(floor(t));                                                           \
-        vec2 f = t - vec2(t0);                                                                \
-        vec4 c[4];                                                                            \
-        if (all(greaterThanEqual(t0, ivec2(0))) && all(lessThan(t0, ivec2(last)))) {          \
-            int l = base + face;                                                              \
-            c[0] = texelFetch(TEX, ivec3(t0, l), 0);                                          \
-            c[1] = texelFetch(TEX, ivec3(t0 + ivec2(1, 0), l), 0);                            \
-            c[2] = texelFetch(TEX, ivec3(t0 + ivec2(0, 1), l), 0);                            \
-            c[3] = texelFetch(TEX, ivec3(t0 + ivec2(1, 1), l), 0);                            \
-        } else {                                                                              \
-            for (int k = 0; k < 4; k++) {                                                     \
-                ivec2 tap = t0 + ivec2(k & 1, k >> 1);                                        \
-                vec2 tab = (vec2(tap) + 0.5) / float(pc.back_res) * 2.0 - 1.0;                 \
-                vec3 dir = HEMICUBE_FORWARD[face] + tab.x * HEMICUBE_RIGHT[face] +            \
-                           tab.y * HEMICUBE_UP[face];                                         \
-                dir.z = max(dir.z, 1e-6);                                                     \
-                vec2 q;                                                                       \
-                int qf = hemicube_face(dir, pc.back_res, q);                                                   \
-                ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), ivec2(last));                     \
-                c[k] = texelFetch(TEX, ivec3(qi, base + qf), 0);                              \
-            }                                                                                 \
-        }                                                                                     \
-        return mix(mix(c[0], c[1], f.x), mix(c[2], c[3], f.x), f.y);                          \
-    }                                                                                         \
-    vec3 NAME##_projected(uint slot, uint p, vec3 x, vec3 ne)                                 \
-    {                                                                                         \
-        gpu_shooter back = frame(slot, CROSS_FRAMES_BACK, p);                                 \
-        mat3 to_local = basis(back);                                                          \
-        cross_quad q = quads[slot * pc.patch_count + p];                                      \
-        vec3 c = back.pos_area.xyz;                                                           \
-        vec3 du = (q.corner[1].xyz - q.corner[0].xyz), dv = (q.corner[3].xyz - q.corner[0].xyz); \
-        vec3 dw = (q.corner[2].xyz - q.corner[3].xyz) - du;                                   \
-        vec3 total = vec3(0.0);                                                               \
-        float weights = 0.0;                                                                  \
-        float inv = 1.0 / float(pc.grid);                                                     \
-        for (uint gy = 0u; gy < pc.grid; gy++) {                                              \
-            float tv = (float(gy) + 0.5) * inv;                                               \
-            for (uint gx = 0u; gx < pc.grid; gx++) {                                          \
-                float tu = (float(gx) + 0.5) * inv;                                           \
-                vec3 g = q.corner[0].xyz + tu * du + tv * dv + (tu * tv) * dw;                \
-                vec3 ray = g - x;                                                             \
-                vec3 r = normalize(ray);                                                      \
-                vec3 dir = to_local * r;                                                      \
-                if (dir.z <= 0.0)                                                             \
-                    continue;                                                                 \
-                float w = max(dot(r, ne), 0.0) * dir.z / dot(ray, ray);                       \
-                weights += w;                                                                 \
-                float dist = NAME##_nearest(p, dir).a * pc.diameter;                          \
-                if (dist > 0.0)                                                               \
-                    dir = to_local * (g + r * dist - c);                                      \
-                if (dir.z <= 0.0)                                                             \
-                    continue;                                                                 \
-                total += w * (pc.bilinear != 0u ? NAME##_bilinear(p, dir).rgb                 \
-                                                : NAME##_nearest(p, dir).rgb);                \
-            }                                                                                 \
-        }                                                                                     \
-        return weights > 0.0 ? total * (pc.inv_scale / weights) : vec3(0.0);                  \
+#define BACK_SAMPLERS(NAME, TEX)                                                                  \
+    vec4 NAME##_nearest(uint p, vec3 d)                                                           \
+    {                                                                                             \
+        vec2 t;                                                                                   \
+        int face = hemicube_face(d, pc.back_res, t);                                              \
+        ivec2 px = clamp(ivec2(floor(t)), ivec2(0), ivec2(int(pc.back_res) - 1));                 \
+        return texelFetch(TEX, ivec3(px, int(p) * HEMICUBE_FACES + face), 0);                     \
+    }                                                                                             \
+    vec4 NAME##_bilinear(uint p, vec3 d)                                                          \
+    {                                                                                             \
+        vec2 t;                                                                                   \
+        int face = hemicube_face(d, pc.back_res, t);                                              \
+        int base = int(p) * HEMICUBE_FACES;                                                       \
+        int last = int(pc.back_res) - 1;                                                          \
+        t -= 0.5;                                                                                 \
+        ivec2 t0 = ivec2(floor(t));                                                               \
+        vec2 f = t - vec2(t0);                                                                    \
+        vec4 c[4];                                                                                \
+        if (all(greaterThanEqual(t0, ivec2(0))) && all(lessThan(t0, ivec2(last)))) {              \
+            int l = base + face;                                                                  \
+            c[0] = texelFetch(TEX, ivec3(t0, l), 0);                                              \
+            c[1] = texelFetch(TEX, ivec3(t0 + ivec2(1, 0), l), 0);                                \
+            c[2] = texelFetch(TEX, ivec3(t0 + ivec2(0, 1), l), 0);                                \
+            c[3] = texelFetch(TEX, ivec3(t0 + ivec2(1, 1), l), 0);                                \
+        } else {                                                                                  \
+            for (int k = 0; k < 4; k++) {                                                         \
+                ivec2 tap = t0 + ivec2(k & 1, k >> 1);                                            \
+                vec2 tab = (vec2(tap) + 0.5) / float(pc.back_res) * 2.0 - 1.0;                    \
+                vec3 dir = HEMICUBE_FORWARD[face] + tab.x * HEMICUBE_RIGHT[face] +                \
+                           tab.y * HEMICUBE_UP[face];                                             \
+                dir.z = max(dir.z, 1e-6);                                                         \
+                vec2 q;                                                                           \
+                int qf = hemicube_face(dir, pc.back_res, q);                                      \
+                ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), ivec2(last));                         \
+                c[k] = texelFetch(TEX, ivec3(qi, base + qf), 0);                                  \
+            }                                                                                     \
+        }                                                                                         \
+        return mix(mix(c[0], c[1], f.x), mix(c[2], c[3], f.x), f.y);                              \
+    }                                                                                             \
+    vec3 NAME##_projected(uint slot, uint p, vec3 x, vec3 ne)                                     \
+    {                                                                                             \
+        gpu_shooter back = frame(slot, CROSS_FRAMES_BACK, p);                                     \
+        mat3 to_local = basis(back);                                                              \
+        cross_quad q = quads[slot * pc.patch_count + p];                                          \
+        vec3 c = back.pos_area.xyz;                                                               \
+        vec3 du = (q.corner[1].xyz - q.corner[0].xyz), dv = (q.corner[3].xyz - q.corner[0].xyz);  \
+        vec3 dw = (q.corner[2].xyz - q.corner[3].xyz) - du;                                       \
+        vec3 total = vec3(0.0);                                                                   \
+        float weights = 0.0;                                                                      \
+        float inv = 1.0 / float(pc.grid);                                                         \
+        for (uint gy = 0u; gy < pc.grid; gy++) {                                                  \
+            float tv = (float(gy) + 0.5) * inv;                                                   \
+            for (uint gx = 0u; gx < pc.grid; gx++) {                                              \
+                float tu = (float(gx) + 0.5) * inv;                                               \
+                vec3 g = q.corner[0].xyz + tu * du + tv * dv + (tu * tv) * dw;                    \
+                vec3 ray = g - x;                                                                 \
+                vec3 r = normalize(ray);                                                          \
+                vec3 dir = to_local * r;                                                          \
+                if (dir.z <= 0.0)                                                                 \
+                    continue;                                                                     \
+                float w = max(dot(r, ne), 0.0) * dir.z / dot(ray, ray);                           \
+                weights += w;                                                                     \
+                float dist = NAME##_nearest(p, dir).a * pc.diameter;                              \
+                if (dist > 0.0)                                                                   \
+                    dir = to_local * (g + r * dist - c);                                          \
+                if (dir.z <= 0.0)                                                                 \
+                    continue;                                                                     \
+                total += w * (pc.bilinear != 0u ? NAME##_bilinear(p, dir).rgb                     \
+                                                : NAME##_nearest(p, dir).rgb);                    \
+            }                                                                                     \
+        }                                                                                         \
+        return weights > 0.0 ? total * (pc.inv_scale / weights) : vec3(0.0);                      \
     }
 
 BACK_SAMPLERS(back_old, back_old)

@@ -55,8 +55,8 @@ struct cross_quad {
 /* cross_update.comp modes */
 #define CROSS_UPDATE_SHOT 0u      /* per patch: values.shot = mean(B - Bu) */
 #define CROSS_UPDATE_RESET 1u     /* per element of M: B = Bu = E */
-#define CROSS_UPDATE_SHOT_C 2u    /* per element: out = B - Bu on C, 0 on M (the hemicubes' atlas) */
-#define CROSS_UPDATE_GATHERED 3u  /* per element of M: B = E + rho * interpolated gathered, Bu = 0 */
+#define CROSS_UPDATE_SHOT_C 2u    /* per element: out = B - Bu on C, 0 on M (for the atlas) */
+#define CROSS_UPDATE_GATHERED 3u  /* per element of M: B = E + rho x gathered (interpolated), Bu = 0 */
 #define CROSS_UPDATE_TOTAL 4u     /* per patch: values.total = mean(B) */
 
 #define CROSS_UPDATE_BINDING_SURFACES 0

@@ -29,7 +29,7 @@ struct hemicube_push {
     float near;      /* m: geometry nearer than this along a face's axis is clipped */
     float hair;      /* m: the origin sits this far in front of its surface */
     float scale;     /* radiosity variant: the image holds B x scale (keeps fp16 in range) */
-    float depth_scale; /* radiosity variant: alpha = distance from the origin x this (1 / diameter) */
+    float depth_scale; /* radiosity variant: alpha = distance from the origin x this */
 };
 
 #endif

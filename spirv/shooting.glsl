@@ -34,7 +34,8 @@ bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local
 
 vec3 shooting_bilinear(gpu_surface sf, float s, float t)
 {
-    return mix(mix(sf.corner[0].xyz, sf.corner[1].xyz, s), mix(sf.corner[3].xyz, sf.corner[2].xyz, s), t);
+    return mix(mix(sf.corner[0].xyz, sf.corner[1].xyz, s),
+               mix(sf.corner[3].xyz, sf.corner[2].xyz, s), t);
 }
 
 // The parameter interval covered by samples [i0, i1] of n along one side
@@ -96,7 +97,8 @@ float shooting_disk(vec3 d, float cs, float ce, float area)
 
 float shooting_quad(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh)
 {
-    vec2 rs = shooting_param_range(sh.i0, sh.i1, sf.nu), rt = shooting_param_range(sh.j0, sh.j1, sf.nv);
+    vec2 rs = shooting_param_range(sh.i0, sh.i1, sf.nu);
+    vec2 rt = shooting_param_range(sh.j0, sh.j1, sf.nv);
     vec3 q[4] = vec3[4](shooting_bilinear(sf, rs.x, rt.x), shooting_bilinear(sf, rs.y, rt.x),
                         shooting_bilinear(sf, rs.y, rt.y), shooting_bilinear(sf, rs.x, rt.y));
     return shooting_point_to_quad(x, ne, q);

@@ -112,8 +112,6 @@ xrad_status dynamic_patches_fix(struct xrad_context *ctx, gpu_scene *gs,
     return st;
 }
 
-static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
-
 static vec3 bilinear(const vec3 c[4], double u, double v)
 {
     return v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
@@ -144,9 +142,9 @@ void dynamic_patches_pose(const xrad_scene *scene, const dynamic_patches *dp, do
         param_range(q->i0, q->i1, sf->nu, &s0, &s1);
         param_range(q->j0, q->j1, sf->nv, &t0, &t1);
         struct gpu_shooter f = {
-            .pos_area = to_vec4(bilinear(c, 0.5 * (s0 + s1), 0.5 * (t0 + t1)), dp->area[p]),
-            .normal = to_vec4(n, 0),
-            .tangent = to_vec4(tangent, 0),
+            .pos_area = gpu_vec4(bilinear(c, 0.5 * (s0 + s1), 0.5 * (t0 + t1)), dp->area[p]),
+            .normal = gpu_vec4(n, 0),
+            .tangent = gpu_vec4(tangent, 0),
             .surface = q->surface,
             .i0 = q->i0,
             .i1 = q->i1,
@@ -158,19 +156,19 @@ void dynamic_patches_pose(const xrad_scene *scene, const dynamic_patches *dp, do
             front[p] = f;
         if (back) {
             back[p] = f;
-            back[p].normal = to_vec4(v3_scale(n, -1), 0);
+            back[p].normal = gpu_vec4(v3_scale(n, -1), 0);
         }
         if (gather) {
             double g0, g1, h0, h1;
             param_range(q->ci, q->ci, q->cx, &g0, &g1);
             param_range(q->cj, q->cj, q->cy, &h0, &h1);
             gather[p] = f;
-            gather[p].pos_area = to_vec4(bilinear(c, 0.5 * (g0 + g1), 0.5 * (h0 + h1)), 0);
+            gather[p].pos_area = gpu_vec4(bilinear(c, 0.5 * (g0 + g1), 0.5 * (h0 + h1)), 0);
         }
         if (quads) {
             const double st[4][2] = {{s0, t0}, {s1, t0}, {s1, t1}, {s0, t1}};
             for (int k = 0; k < 4; k++)
-                quads[p].corner[k] = to_vec4(bilinear(c, st[k][0], st[k][1]), 1);
+                quads[p].corner[k] = gpu_vec4(bilinear(c, st[k][0], st[k][1]), 1);
         }
     }
 }

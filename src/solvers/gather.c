@@ -106,8 +106,6 @@ static void destroy(xrad_solver *s)
     s->impl = NULL;
 }
 
-static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
-
 /* The parameter interval of sample i of n: within half a spacing, clipped
  * to the surface (scene.h). */
 static double cell_mid(uint32_t i, uint32_t n)
@@ -141,10 +139,10 @@ static xrad_status build_frames(xrad_solver *s, gather *g, xrad_error *err)
                 uint32_t e = sf->first_element + j * sf->nu + i;
                 mat3 r = m3_rotation(normal, hemicube_rotation(s->desc.seed * 0x9e3779b9u + e));
                 struct gpu_shooter *fe = &f[e];
-                fe->pos_area = to_vec4(bilinear(c, cell_mid(i, sf->nu), cell_mid(j, sf->nv)),
+                fe->pos_area = gpu_vec4(bilinear(c, cell_mid(i, sf->nu), cell_mid(j, sf->nv)),
                                        scene->elements[e].area);
-                fe->normal = to_vec4(normal, 0);
-                fe->tangent = to_vec4(m3_apply(&r, x0), 0);
+                fe->normal = gpu_vec4(normal, 0);
+                fe->tangent = gpu_vec4(m3_apply(&r, x0), 0);
                 fe->surface = k;
                 fe->i0 = fe->i1 = i;
                 fe->j0 = fe->j1 = j;

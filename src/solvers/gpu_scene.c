@@ -24,8 +24,6 @@ static void geometry_free(geometry *g)
     memset(g, 0, sizeof(*g));
 }
 
-static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
-
 /* Buffers cannot be empty; a scene without surfaces still gets one entry. */
 static size_t at_least_one(size_t n) { return n ? n : 1; }
 
@@ -57,11 +55,11 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
         scene_surface_world(scene, s, time, c, &n);
         struct gpu_surface *gsf = &g->surfaces[s];
         for (int k = 0; k < 4; k++) {
-            gsf->corner[k] = to_vec4(c[k], 1);
+            gsf->corner[k] = gpu_vec4(c[k], 1);
             lo = v3(fmin(lo.x, c[k].x), fmin(lo.y, c[k].y), fmin(lo.z, c[k].z));
             hi = v3(fmax(hi.x, c[k].x), fmax(hi.y, c[k].y), fmax(hi.z, c[k].z));
         }
-        gsf->normal_area = to_vec4(n, sf->area);
+        gsf->normal_area = gpu_vec4(n, sf->area);
         gsf->first_element = sf->first_element;
         gsf->nu = sf->nu;
         gsf->nv = sf->nv;
@@ -79,8 +77,8 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
         for (uint32_t e = 0; e < sf->nu * sf->nv; e++) {
             const element *el = &scene->elements[sf->first_element + e];
             struct gpu_element *ge = &g->elements[sf->first_element + e];
-            ge->pos_area = to_vec4(xf_point(&pose, el->pos), el->area);
-            ge->normal = to_vec4(n, 0);
+            ge->pos_area = gpu_vec4(xf_point(&pose, el->pos), el->area);
+            ge->normal = gpu_vec4(n, 0);
             ge->surface = s;
             ge->texel_x = el->texel_x;
             ge->texel_y = el->texel_y;
@@ -148,7 +146,7 @@ xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, xrad_error 
                          scene->path);
     for (uint32_t i = 0; i < gs->element_count; i++) {
         const material *m = &scene->materials[scene->surfaces[scene->elements[i].surface].material];
-        e[i] = to_vec4(m->emission, 0);
+        e[i] = gpu_vec4(m->emission, 0);
     }
     xrad_status s = gpu_upload_buffer(ctx, &gs->B, 0, e, n * sizeof(*e), err);
     if (!s)
@@ -166,8 +164,8 @@ static xrad_status upload_materials(struct xrad_context *ctx, gpu_scene *gs, xra
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for materials",
                          scene->path);
     for (uint32_t i = 0; i < scene->material_count; i++) {
-        m[i].albedo = to_vec4(scene->materials[i].albedo, 0);
-        m[i].emission = to_vec4(scene->materials[i].emission, 0);
+        m[i].albedo = gpu_vec4(scene->materials[i].albedo, 0);
+        m[i].emission = gpu_vec4(scene->materials[i].emission, 0);
     }
     xrad_status s = gpu_upload_buffer(ctx, &gs->materials, 0, m, n * sizeof(*m), err);
     free(m);

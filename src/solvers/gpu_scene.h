@@ -17,7 +17,14 @@
 #include "gpu/buffer.h"
 #include "gpu/image.h"
 #include "scene/scene.h"
+#include "shared.h"
 #include "xrad.h"
+
+/* A host vector as the GPU tables store it. */
+static inline vec4 gpu_vec4(vec3 v, double w)
+{
+    return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w};
+}
 
 struct xrad_context;
 

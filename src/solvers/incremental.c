@@ -279,8 +279,6 @@ static void param_range(uint32_t i0, uint32_t i1, uint32_t n, double *lo, double
     *hi = fmin(1.0, (i1 + 0.5) * h);
 }
 
-static vec4 to_vec4(vec3 v, double w) { return (vec4){(float)v.x, (float)v.y, (float)v.z, (float)w}; }
-
 /* GENERATESHOOTINGPATCHES for every surface of C (Algorithm 4.3 line 8),
  * fixed once per solve: each surface of C is cut by the rule of the select
  * pass from its total power `power` (thesis 4.3.3), and the cut is
@@ -344,9 +342,9 @@ static xrad_status fix_static_layout(xrad_solver *s, incremental *inc, const flo
             vec3 centre = v3_lerp(v3_lerp(c[0], c[1], ms), v3_lerp(c[3], c[2], ms), mt);
             mat3 r = m3_rotation(normal, patch_rotation(s->desc.seed, first + q));
             out[n] = (struct gpu_shooter){
-                .pos_area = to_vec4(centre, area),
-                .normal = to_vec4(normal, 0),
-                .tangent = to_vec4(m3_apply(&r, u0), 0),
+                .pos_area = gpu_vec4(centre, area),
+                .normal = gpu_vec4(normal, 0),
+                .tangent = gpu_vec4(m3_apply(&r, u0), 0),
                 .surface = k,
                 .i0 = i0,
                 .i1 = i1,
