@@ -56,6 +56,7 @@
 #include "passes/cross_reconstruct.h"
 #include "passes/cross_update.h"
 #include "passes/hemicube.h"
+#include "passes/hemicube_geometry.h"
 #include "passes/integrate.h"
 #include "radiosity.h"
 #include "solvers/dynamic_patches.h"
@@ -218,6 +219,18 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         (st = progressive_create(s, &c->prog, err)))
         goto fail;
     c->P = c->dp.count;
+    const VkPhysicalDeviceLimits *lim = &s->ctx->props.limits;
+    uint32_t layers = lim->maxImageArrayLayers < lim->maxFramebufferLayers
+                          ? lim->maxImageArrayLayers
+                          : lim->maxFramebufferLayers;
+    if ((uint64_t)c->P * HEMICUBE_FACES > layers) {
+        st = xrad_fail(err, XRAD_ERROR_INPUT,
+                       "%s: the dynamic objects have %u cross patches (cross_density, or "
+                       "max_patches %u per side where none is given); the device draws at most "
+                       "%u hemicubes at once",
+                       s->scene->path, c->P, s->desc.max_patches, layers / HEMICUBE_FACES);
+        goto fail;
+    }
     /* A scene without dynamic objects needs no redistribution state. */
     if (c->P && (st = create_redistribution(s, c, err)))
         goto fail;
