@@ -45,8 +45,7 @@ xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
     }
     if (n) {
         out->patches = calloc(n, sizeof(*out->patches));
-        out->area = calloc(n, sizeof(*out->area));
-        if (!out->patches || !out->area) {
+        if (!out->patches) {
             free(cx);
             dynamic_patches_free(out);
             return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for patches",
@@ -72,9 +71,6 @@ xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
                 q->cj = cj;
                 q->cx = kx;
                 q->cy = ky;
-                for (uint32_t j = q->j0; j <= q->j1; j++)
-                    for (uint32_t i = q->i0; i <= q->i1; i++)
-                        out->area[p] += scene->elements[sf->first_element + j * sf->nu + i].area;
             }
         }
     }
@@ -88,7 +84,6 @@ void dynamic_patches_free(dynamic_patches *dp)
         return;
     free(dp->patches);
     free(dp->surface_patch);
-    free(dp->area);
     memset(dp, 0, sizeof(*dp));
 }
 
@@ -125,50 +120,64 @@ static void param_range(uint32_t i0, uint32_t i1, uint32_t n, double *lo, double
     *hi = fmin(1.0, (i1 + 0.5) * h);
 }
 
+void fixed_patch_frame(const xrad_scene *scene, uint32_t surface_index, uint32_t i0, uint32_t i1,
+                       uint32_t j0, uint32_t j1, uint32_t index, uint32_t seed, double t,
+                       struct gpu_shooter *frame, struct cross_quad *quad)
+{
+    const surface *sf = &scene->surfaces[surface_index];
+    vec3 c[4], n;
+    scene_surface_world(scene, surface_index, t, c, &n);
+    vec3 u = v3_sub(c[1], c[0]);
+    vec3 x0 = v3_norm(v3_sub(u, v3_scale(n, v3_dot(u, n))));
+    mat3 r = m3_rotation(n, patch_rotation(seed, index));
+    double area = 0;
+    for (uint32_t j = j0; j <= j1; j++)
+        for (uint32_t i = i0; i <= i1; i++)
+            area += scene->elements[sf->first_element + j * sf->nu + i].area;
+    double s0, s1, t0, t1;
+    param_range(i0, i1, sf->nu, &s0, &s1);
+    param_range(j0, j1, sf->nv, &t0, &t1);
+    *frame = (struct gpu_shooter){
+        .pos_area = gpu_vec4(bilinear(c, 0.5 * (s0 + s1), 0.5 * (t0 + t1)), area),
+        .normal = gpu_vec4(n, 0),
+        .tangent = gpu_vec4(m3_apply(&r, x0), 0),
+        .surface = surface_index,
+        .i0 = i0,
+        .i1 = i1,
+        .j0 = j0,
+        .j1 = j1,
+        .hemicube = index,
+    };
+    if (quad) {
+        const double st[4][2] = {{s0, t0}, {s1, t0}, {s1, t1}, {s0, t1}};
+        for (int k = 0; k < 4; k++)
+            quad->corner[k] = gpu_vec4(bilinear(c, st[k][0], st[k][1]), 1);
+    }
+}
+
 void dynamic_patches_pose(const xrad_scene *scene, const dynamic_patches *dp, double t,
                           uint32_t seed, struct gpu_shooter *front, struct gpu_shooter *back,
                           struct gpu_shooter *gather, struct cross_quad *quads)
 {
     for (uint32_t p = 0; p < dp->count; p++) {
         const struct cross_patch *q = &dp->patches[p];
-        const surface *sf = &scene->surfaces[q->surface];
-        vec3 c[4], n;
-        scene_surface_world(scene, q->surface, t, c, &n);
-        vec3 u = v3_sub(c[1], c[0]);
-        vec3 x0 = v3_norm(v3_sub(u, v3_scale(n, v3_dot(u, n))));
-        mat3 r = m3_rotation(n, patch_rotation(seed, p));
-        vec3 tangent = m3_apply(&r, x0);
-        double s0, s1, t0, t1;
-        param_range(q->i0, q->i1, sf->nu, &s0, &s1);
-        param_range(q->j0, q->j1, sf->nv, &t0, &t1);
-        struct gpu_shooter f = {
-            .pos_area = gpu_vec4(bilinear(c, 0.5 * (s0 + s1), 0.5 * (t0 + t1)), dp->area[p]),
-            .normal = gpu_vec4(n, 0),
-            .tangent = gpu_vec4(tangent, 0),
-            .surface = q->surface,
-            .i0 = q->i0,
-            .i1 = q->i1,
-            .j0 = q->j0,
-            .j1 = q->j1,
-            .hemicube = p,
-        };
+        struct gpu_shooter f;
+        fixed_patch_frame(scene, q->surface, q->i0, q->i1, q->j0, q->j1, p, seed, t, &f,
+                          quads ? &quads[p] : NULL);
         if (front)
             front[p] = f;
         if (back) {
             back[p] = f;
-            back[p].normal = gpu_vec4(v3_scale(n, -1), 0);
+            back[p].normal = (vec4){-f.normal.x, -f.normal.y, -f.normal.z, 0};
         }
         if (gather) {
+            vec3 c[4];
             double g0, g1, h0, h1;
+            scene_surface_world(scene, q->surface, t, c, NULL);
             param_range(q->ci, q->ci, q->cx, &g0, &g1);
             param_range(q->cj, q->cj, q->cy, &h0, &h1);
             gather[p] = f;
             gather[p].pos_area = gpu_vec4(bilinear(c, 0.5 * (g0 + g1), 0.5 * (h0 + h1)), 0);
-        }
-        if (quads) {
-            const double st[4][2] = {{s0, t0}, {s1, t0}, {s1, t1}, {s0, t1}};
-            for (int k = 0; k < 4; k++)
-                quads[p].corner[k] = gpu_vec4(bilinear(c, st[k][0], st[k][1]), 1);
         }
     }
 }

@@ -26,7 +26,6 @@ typedef struct dynamic_patches {
     uint32_t count;
     struct cross_patch *patches; /* [count], surface by surface, row-major in (ci, cj) */
     uint32_t *surface_patch;     /* [surface_count]: patch (0, 0) of a dynamic surface, else NONE */
-    double *area;                /* [count], m^2: the block's element areas summed */
 } dynamic_patches;
 
 /* The layout for `scene`; max_patches (>= 1) bounds the sides of surfaces
@@ -43,6 +42,17 @@ void dynamic_patches_free(dynamic_patches *dp);
  * block (gpu_scene_fix_patches). Call before progressive_create. */
 xrad_status dynamic_patches_fix(struct xrad_context *ctx, gpu_scene *gs,
                                 const dynamic_patches *dp, xrad_error *err);
+
+/* The hemicube frame of the fixed patch numbered `index` (its rotation,
+ * patch_rotation) covering elements [i0, i1] x [j0, j1] of a surface at
+ * scene time t, built as spirv/select.comp builds a shooter: centre
+ * bilinear at the middle of the block's parameter range, area the block's
+ * element areas summed, tangent the u edge projected onto the surface's
+ * plane and turned; `hemicube` = index. With quad, also the block's world
+ * corners. The dynamic methods make every shooter of a fixed layout here. */
+void fixed_patch_frame(const xrad_scene *scene, uint32_t surface, uint32_t i0, uint32_t i1,
+                       uint32_t j0, uint32_t j1, uint32_t index, uint32_t seed, double t,
+                       struct gpu_shooter *frame, struct cross_quad *quad);
 
 /* The patches posed at scene time t, each array [count] (any may be
  * NULL): front hemicube frames (patch centre, surface normal; tangent the

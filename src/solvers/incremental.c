@@ -271,14 +271,6 @@ static void patch_counts(const xrad_solver *s, const vec3 c[4], const surface *s
     *ky = (uint32_t)(ay < 1 ? 1 : ay > my ? my : ay);
 }
 
-/* The parameter interval covered by samples [i0, i1] of n (scene.h). */
-static void param_range(uint32_t i0, uint32_t i1, uint32_t n, double *lo, double *hi)
-{
-    double h = 1.0 / (n - 1);
-    *lo = fmax(0.0, (i0 - 0.5) * h);
-    *hi = fmin(1.0, (i1 + 0.5) * h);
-}
-
 /* GENERATESHOOTINGPATCHES for every surface of C (Algorithm 4.3 line 8),
  * fixed once per solve: each surface of C is cut by the rule of the select
  * pass from its total power `power` (thesis 4.3.3), and the cut is
@@ -313,8 +305,8 @@ static xrad_status fix_static_layout(xrad_solver *s, incremental *inc, const flo
             fx[2] = p;
             continue;
         }
-        vec3 c[4], normal;
-        scene_surface_world(scene, k, s->gs.time, c, &normal);
+        vec3 c[4];
+        scene_surface_world(scene, k, s->gs.time, c, NULL);
         uint32_t kx = 1, ky = 1;
         if (max_power > 0)
             patch_counts(s, c, sf, power[k], max_power, &kx, &ky);
@@ -325,33 +317,12 @@ static xrad_status fix_static_layout(xrad_solver *s, incremental *inc, const flo
         fx[0] = kx;
         fx[1] = ky;
         fx[2] = first;
-        vec3 u = v3_sub(c[1], c[0]);
-        vec3 u0 = v3_norm(v3_sub(u, v3_scale(normal, v3_dot(u, normal))));
         for (uint32_t q = 0; q < kx * ky; q++) {
             uint32_t px = q % kx, py = q / kx;
-            uint32_t i0 = px * sf->nu / kx, i1 = (px + 1) * sf->nu / kx - 1;
-            uint32_t j0 = py * sf->nv / ky, j1 = (py + 1) * sf->nv / ky - 1;
-            double area = 0;
-            for (uint32_t j = j0; j <= j1; j++)
-                for (uint32_t i = i0; i <= i1; i++)
-                    area += scene->elements[sf->first_element + j * sf->nu + i].area;
-            double s0, s1, t0, t1;
-            param_range(i0, i1, sf->nu, &s0, &s1);
-            param_range(j0, j1, sf->nv, &t0, &t1);
-            double ms = 0.5 * (s0 + s1), mt = 0.5 * (t0 + t1);
-            vec3 centre = v3_lerp(v3_lerp(c[0], c[1], ms), v3_lerp(c[3], c[2], ms), mt);
-            mat3 r = m3_rotation(normal, patch_rotation(s->desc.seed, first + q));
-            out[n] = (struct gpu_shooter){
-                .pos_area = gpu_vec4(centre, area),
-                .normal = gpu_vec4(normal, 0),
-                .tangent = gpu_vec4(m3_apply(&r, u0), 0),
-                .surface = k,
-                .i0 = i0,
-                .i1 = i1,
-                .j0 = j0,
-                .j1 = j1,
-                .hemicube = n % inc->chunk,
-            };
+            fixed_patch_frame(scene, k, px * sf->nu / kx, (px + 1) * sf->nu / kx - 1,
+                              py * sf->nv / ky, (py + 1) * sf->nv / ky - 1, first + q,
+                              s->desc.seed, s->gs.time, &out[n], NULL);
+            out[n].hemicube = n % inc->chunk;
             n++;
         }
     }
