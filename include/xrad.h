@@ -13,7 +13,8 @@
  * result (for the system). No call exits the process.
  *
  * Thread-safety: objects are not internally synchronised; use one object from
- * one thread at a time. Distinct objects may be used from distinct threads.
+ * one thread at a time. Distinct objects may be used from distinct threads,
+ * also when they share one context (its queue and memory are locked).
  */
 #ifndef XRAD_H
 #define XRAD_H
@@ -64,6 +65,26 @@ typedef struct xrad_scene_info {
 } xrad_scene_info;
 
 void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info);
+
+typedef struct xrad_object_info {
+    const char *name; /* the file's object name; valid while the scene lives */
+    int dynamic;      /* 1 for objects of set M (they move) */
+    double offset[3]; /* m, the xrad_scene_set_offset displacement */
+} xrad_object_info;
+
+/* Object `index` (0 .. info.objects - 1) in file order; XRAD_ERROR_INPUT
+ * for an index out of range. */
+xrad_status xrad_scene_get_object(const xrad_scene *scene, uint32_t index,
+                                  xrad_object_info *info, xrad_error *err);
+
+/* Displaces dynamic object `index` by `offset` (m, world) on top of its
+ * animation, at every scene time: moving an object by hand. A solver sees
+ * it at its next pose (xrad_solver_advance, xrad_solver_set_time) as motion
+ * of the object; solvers keep what they need of the pose in hand, so the
+ * offset may change between frames. XRAD_ERROR_INPUT for a static object,
+ * an index out of range or a non-finite offset beyond 1e9 m. */
+xrad_status xrad_scene_set_offset(xrad_scene *scene, uint32_t index, const double offset[3],
+                                  xrad_error *err);
 
 /* A radiosity solution in the scene's atlas layout: atlas_width x
  * atlas_height texels, RGBA float, row-major; texels that belong to no
@@ -121,6 +142,14 @@ typedef struct xrad_context_desc {
      * 1 on. Messages are counted (xrad_context_validation_messages) and
      * printed to stderr. Missing layer with validation on is an error. */
     int validation;
+    /* Presentation to a window (xrad view, or an application's own):
+     * instance extensions to enable besides xrad's, e.g. what
+     * glfwGetRequiredInstanceExtensions returns; each must be offered. */
+    const char *const *instance_extensions;
+    uint32_t instance_extension_count;
+    /* 1: enable VK_KHR_swapchain on the device; a device without it is an
+     * error (XRAD_ERROR_SYSTEM). */
+    int present;
 } xrad_context_desc;
 
 xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **out,

@@ -1,5 +1,6 @@
 #include "gpu/cmd.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -12,14 +13,16 @@ xrad_status gpu_cmd_begin(struct xrad_context *ctx, gpu_cmd *c, xrad_error *err)
     xrad_status s = gpu_context_check_alive(ctx, "recording GPU commands", err);
     if (s)
         return s;
+    if ((s = gpu_thread_pool(ctx, &c->pool, err)))
+        return s;
     VkCommandBufferAllocateInfo alloc = {
         .sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
-        .commandPool = ctx->cmd_pool,
+        .commandPool = c->pool,
         .level = VK_COMMAND_BUFFER_LEVEL_PRIMARY,
         .commandBufferCount = 1,
     };
-    if (VK_CHECK(ctx, err, vkAllocateCommandBuffers(ctx->device, &alloc, &c->cmd)))
-        return XRAD_ERROR_SYSTEM;
+    if ((s = VK_CHECK(ctx, err, vkAllocateCommandBuffers(ctx->device, &alloc, &c->cmd))))
+        return s;
     VkFenceCreateInfo fence = {.sType = VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
     if ((s = VK_CHECK(ctx, err, vkCreateFence(ctx->device, &fence, NULL, &c->fence))))
         goto fail;
@@ -36,34 +39,109 @@ fail:
     return s;
 }
 
-xrad_status gpu_cmd_submit(struct xrad_context *ctx, gpu_cmd *c, xrad_error *err)
+xrad_status gpu_queue_submit(struct xrad_context *ctx, const VkSubmitInfo *submit, VkFence fence,
+                             xrad_error *err)
 {
     xrad_status s = gpu_context_check_alive(ctx, "submitting GPU commands", err);
     if (s)
         return s;
-    if (VK_CHECK(ctx, err, vkEndCommandBuffer(c->cmd)))
-        return XRAD_ERROR_SYSTEM;
+    pthread_mutex_lock(&ctx->queue_lock);
+    s = VK_CHECK(ctx, err, vkQueueSubmit(ctx->queue, 1, submit, fence));
+    pthread_mutex_unlock(&ctx->queue_lock);
+    return s;
+}
+
+xrad_status gpu_cmd_submit_sync(struct xrad_context *ctx, gpu_cmd *c, const gpu_sync *sync,
+                                xrad_error *err)
+{
+    xrad_status s = gpu_context_check_alive(ctx, "submitting GPU commands", err);
+    if (s)
+        return s;
+    if ((s = VK_CHECK(ctx, err, vkEndCommandBuffer(c->cmd))))
+        return s;
+    bool has_timeline = ctx->timeline != VK_NULL_HANDLE;
+    bool wait = sync && sync->wait, signal = sync && sync->signal;
+    pthread_mutex_lock(&ctx->queue_lock);
     uint64_t value = ctx->timeline_value + 1;
+    VkSemaphore signals[2];
+    uint64_t signal_values[2];
+    uint32_t signal_count = 0;
+    if (has_timeline) {
+        signals[signal_count] = ctx->timeline;
+        signal_values[signal_count++] = value;
+    }
+    if (signal) {
+        signals[signal_count] = sync->signal;
+        signal_values[signal_count++] = sync->signal_value;
+    }
     VkTimelineSemaphoreSubmitInfo timeline = {
         .sType = VK_STRUCTURE_TYPE_TIMELINE_SEMAPHORE_SUBMIT_INFO,
-        .signalSemaphoreValueCount = 1,
-        .pSignalSemaphoreValues = &value,
+        .waitSemaphoreValueCount = wait ? 1 : 0,
+        .pWaitSemaphoreValues = wait ? &sync->wait_value : NULL,
+        .signalSemaphoreValueCount = signal_count,
+        .pSignalSemaphoreValues = signal_values,
     };
-    bool has_timeline = ctx->timeline != VK_NULL_HANDLE;
     VkSubmitInfo submit = {
         .sType = VK_STRUCTURE_TYPE_SUBMIT_INFO,
-        .pNext = has_timeline ? &timeline : NULL,
+        .pNext = signal_count || wait ? &timeline : NULL,
+        .waitSemaphoreCount = wait ? 1 : 0,
+        .pWaitSemaphores = wait ? &sync->wait : NULL,
+        .pWaitDstStageMask = wait ? &sync->wait_stage : NULL,
         .commandBufferCount = 1,
         .pCommandBuffers = &c->cmd,
-        .signalSemaphoreCount = has_timeline ? 1 : 0,
-        .pSignalSemaphores = &ctx->timeline,
+        .signalSemaphoreCount = signal_count,
+        .pSignalSemaphores = signals,
     };
-    if (VK_CHECK(ctx, err, vkQueueSubmit(ctx->queue, 1, &submit, c->fence)))
-        return XRAD_ERROR_SYSTEM;
-    ctx->timeline_value = value;
+    s = VK_CHECK(ctx, err, vkQueueSubmit(ctx->queue, 1, &submit, c->fence));
+    if (!s)
+        ctx->timeline_value = value;
+    pthread_mutex_unlock(&ctx->queue_lock);
+    if (s)
+        return s;
     c->value = value;
     c->submitted = true;
     return XRAD_OK;
+}
+
+xrad_status gpu_cmd_submit(struct xrad_context *ctx, gpu_cmd *c, xrad_error *err)
+{
+    return gpu_cmd_submit_sync(ctx, c, NULL, err);
+}
+
+xrad_status gpu_timeline_create(struct xrad_context *ctx, VkSemaphore *out, xrad_error *err)
+{
+    VkSemaphoreTypeCreateInfo type = {
+        .sType = VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO,
+        .semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE,
+        .initialValue = 0,
+    };
+    VkSemaphoreCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO,
+        .pNext = &type,
+    };
+    *out = VK_NULL_HANDLE;
+    if (!ctx->features.timeline_semaphore)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "device '%s' has no timeline semaphores",
+                         ctx->props.deviceName);
+    return VK_CHECK(ctx, err, vkCreateSemaphore(ctx->device, &info, NULL, out));
+}
+
+xrad_status gpu_timeline_value(struct xrad_context *ctx, VkSemaphore sem, uint64_t *value,
+                               xrad_error *err)
+{
+    return VK_CHECK(ctx, err, vkGetSemaphoreCounterValue(ctx->device, sem, value));
+}
+
+xrad_status gpu_timeline_wait(struct xrad_context *ctx, VkSemaphore sem, uint64_t value,
+                              xrad_error *err)
+{
+    VkSemaphoreWaitInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO,
+        .semaphoreCount = 1,
+        .pSemaphores = &sem,
+        .pValues = &value,
+    };
+    return VK_CHECK(ctx, err, vkWaitSemaphores(ctx->device, &info, ctx->wait_timeout_ns));
 }
 
 xrad_status gpu_cmd_wait(struct xrad_context *ctx, gpu_cmd *c, xrad_error *err)
@@ -106,7 +184,7 @@ void gpu_cmd_destroy(struct xrad_context *ctx, gpu_cmd *c)
     }
     vkDestroyFence(ctx->device, c->fence, NULL);
     if (c->cmd)
-        vkFreeCommandBuffers(ctx->device, ctx->cmd_pool, 1, &c->cmd);
+        vkFreeCommandBuffers(ctx->device, c->pool, 1, &c->cmd);
     memset(c, 0, sizeof(*c));
 }
 

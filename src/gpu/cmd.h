@@ -20,6 +20,7 @@ struct xrad_context;
 
 typedef struct gpu_cmd {
     VkCommandBuffer cmd;
+    VkCommandPool pool; /* the recording thread's (gpu_thread_pool): free it in that thread */
     VkFence fence;
     uint64_t value; /* timeline value signalled on completion; 0 until submitted */
     bool submitted, done;
@@ -30,6 +31,34 @@ xrad_status gpu_cmd_begin(struct xrad_context *ctx, gpu_cmd *c, xrad_error *err)
 
 /* Ends recording and submits. Refuses on a lost context. */
 xrad_status gpu_cmd_submit(struct xrad_context *ctx, gpu_cmd *c, xrad_error *err);
+
+/* Semaphores a submission waits for and signals besides the context's
+ * timeline: timeline semaphores with their values; VK_NULL_HANDLE: none. */
+typedef struct gpu_sync {
+    VkSemaphore wait;
+    uint64_t wait_value;
+    VkPipelineStageFlags wait_stage;
+    VkSemaphore signal;
+    uint64_t signal_value;
+} gpu_sync;
+
+/* gpu_cmd_submit with `sync` (may be NULL). */
+xrad_status gpu_cmd_submit_sync(struct xrad_context *ctx, gpu_cmd *c, const gpu_sync *sync,
+                                xrad_error *err);
+
+/* vkQueueSubmit under the context's queue lock, for command buffers of
+ * other pools (a display thread's). */
+xrad_status gpu_queue_submit(struct xrad_context *ctx, const VkSubmitInfo *submit, VkFence fence,
+                             xrad_error *err);
+
+/* A timeline semaphore at value 0. */
+xrad_status gpu_timeline_create(struct xrad_context *ctx, VkSemaphore *out, xrad_error *err);
+/* Its current value (no wait). */
+xrad_status gpu_timeline_value(struct xrad_context *ctx, VkSemaphore sem, uint64_t *value,
+                               xrad_error *err);
+/* Waits until it reaches `value`, at most ctx->wait_timeout_ns. */
+xrad_status gpu_timeline_wait(struct xrad_context *ctx, VkSemaphore sem, uint64_t value,
+                              xrad_error *err);
 
 /* Waits for a submitted command buffer, at most ctx->wait_timeout_ns; a
  * timeout is XRAD_ERROR_SYSTEM and marks the context lost (a hang). */

@@ -1,6 +1,7 @@
 #include "gpu/context.h"
 
 #include <ctype.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -86,7 +87,8 @@ static const char *device_type_name(VkPhysicalDeviceType t)
 
 /* Instance extensions: portability enumeration where the loader has it (so
  * that MoltenVK-style drivers are listed), debug utils for validation. */
-static xrad_status create_instance(struct xrad_context *ctx, bool validation, xrad_error *err)
+static xrad_status create_instance(struct xrad_context *ctx, bool validation,
+                                   const xrad_context_desc *desc, xrad_error *err)
 {
     /* Keeps the drivers loaded past vkDestroyInstance (see driver_pin.c:
      * no false leaks under LeakSanitizer). */
@@ -107,10 +109,27 @@ static xrad_status create_instance(struct xrad_context *ctx, bool validation, xr
     if (!ext)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (instance extensions)");
     xrad_status s = XRAD_OK;
+    const char **enable = NULL;
     if ((s = VK_CHECK(ctx, err, vkEnumerateInstanceExtensionProperties(NULL, &n, ext))))
         goto done;
-    const char *enable[2];
+    uint32_t extra = desc ? desc->instance_extension_count : 0;
+    enable = calloc(2 + extra, sizeof(*enable));
+    if (!enable) {
+        s = xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (instance extensions)");
+        goto done;
+    }
     uint32_t enable_count = 0;
+    for (uint32_t i = 0; i < extra; i++) {
+        const char *name = desc->instance_extensions[i];
+        if (!name || !has_extension(ext, n, name)) {
+            s = xrad_fail(err, XRAD_ERROR_SYSTEM,
+                          "the Vulkan loader does not offer the instance extension %s that "
+                          "presentation needs",
+                          name ? name : "(null)");
+            goto done;
+        }
+        enable[enable_count++] = name;
+    }
     VkInstanceCreateFlags flags = 0;
     if (has_extension(ext, n, VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME)) {
         enable[enable_count++] = VK_KHR_PORTABILITY_ENUMERATION_EXTENSION_NAME;
@@ -192,6 +211,7 @@ static xrad_status create_instance(struct xrad_context *ctx, bool validation, xr
         ctx->validation = true;
     }
 done:
+    free(enable);
     free(ext);
     return s;
 }
@@ -277,7 +297,7 @@ static xrad_status choose_device(struct xrad_context *ctx, const char *wanted, x
     return XRAD_OK;
 }
 
-static xrad_status create_device(struct xrad_context *ctx, xrad_error *err)
+static xrad_status create_device(struct xrad_context *ctx, bool present, xrad_error *err)
 {
     uint32_t qn = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(ctx->phys, &qn, NULL);
@@ -315,7 +335,13 @@ static xrad_status create_device(struct xrad_context *ctx, xrad_error *err)
     bool has_budget = has_extension(ext, en, VK_EXT_MEMORY_BUDGET_EXTENSION_NAME);
     /* The spec requires enabling it wherever it is offered (MoltenVK). */
     bool has_portability = has_extension(ext, en, "VK_KHR_portability_subset");
+    bool has_swapchain = has_extension(ext, en, VK_KHR_SWAPCHAIN_EXTENSION_NAME);
     free(ext);
+    if (present && !has_swapchain)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                         "device '%s' cannot present to a window (no "
+                         VK_KHR_SWAPCHAIN_EXTENSION_NAME ")",
+                         ctx->props.deviceName);
 
     /* What the device offers. */
     VkPhysicalDeviceShaderAtomicFloatFeaturesEXT q_atomic = {
@@ -403,8 +429,10 @@ static xrad_status create_device(struct xrad_context *ctx, xrad_error *err)
             .drawIndirectFirstInstance = f->draw_indirect_first_instance,
         },
     };
-    const char *enable[4];
+    const char *enable[5];
     uint32_t enable_count = 0;
+    if (present)
+        enable[enable_count++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
     if (f->shader_float32_atomic_add)
         enable[enable_count++] = VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME;
     if (f->synchronization2 && !api13)
@@ -433,14 +461,6 @@ static xrad_status create_device(struct xrad_context *ctx, xrad_error *err)
         return XRAD_ERROR_SYSTEM;
     vkGetDeviceQueue(ctx->device, family, 0, &ctx->queue);
 
-    VkCommandPoolCreateInfo pool = {
-        .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
-        .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT |
-                 VK_COMMAND_POOL_CREATE_TRANSIENT_BIT,
-        .queueFamilyIndex = family,
-    };
-    if (VK_CHECK(ctx, err, vkCreateCommandPool(ctx->device, &pool, NULL, &ctx->cmd_pool)))
-        return XRAD_ERROR_SYSTEM;
     if (f->timeline_semaphore) {
         VkSemaphoreTypeCreateInfo type = {
             .sType = VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO,
@@ -468,6 +488,11 @@ xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **ou
     if (!ctx)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (context)");
     atomic_init(&ctx->validation_messages, 0);
+    if (pthread_mutex_init(&ctx->queue_lock, NULL) != 0) {
+        free(ctx);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "context: pthread_mutex_init failed");
+    }
+    ctx->present = desc->present == 1;
     ctx->wait_timeout_ns = DEFAULT_WAIT_TIMEOUT_NS;
     xrad_status s;
     const char *fault = getenv("XRAD_FAULT");
@@ -483,8 +508,8 @@ xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **ou
         if (wanted && !*wanted)
             wanted = NULL;
     }
-    if ((s = create_instance(ctx, validation, err)) || (s = choose_device(ctx, wanted, err)) ||
-        (s = create_device(ctx, err))) {
+    if ((s = create_instance(ctx, validation, desc, err)) || (s = choose_device(ctx, wanted, err)) ||
+        (s = create_device(ctx, desc->present == 1, err))) {
         xrad_context_destroy(&ctx);
         return s;
     }
@@ -511,15 +536,51 @@ void xrad_context_destroy(xrad_context **pctx)
         }
         gpu_memory_destroy(ctx, &ctx->mem);
         vkDestroySemaphore(ctx->device, ctx->timeline, NULL);
-        vkDestroyCommandPool(ctx->device, ctx->cmd_pool, NULL);
+        for (uint32_t i = 0; i < ctx->pool_count; i++)
+            vkDestroyCommandPool(ctx->device, ctx->pools[i].pool, NULL);
         vkDestroyDevice(ctx->device, NULL);
     }
     if (ctx->messenger)
         ctx->destroy_messenger(ctx->instance, ctx->messenger, NULL);
     if (ctx->instance)
         vkDestroyInstance(ctx->instance, NULL);
+    pthread_mutex_destroy(&ctx->queue_lock);
     free(ctx);
     *pctx = NULL;
+}
+
+xrad_status gpu_thread_pool(struct xrad_context *ctx, VkCommandPool *out, xrad_error *err)
+{
+    pthread_t self = pthread_self();
+    xrad_status s = XRAD_OK;
+    pthread_mutex_lock(&ctx->queue_lock);
+    uint32_t i = 0;
+    while (i < ctx->pool_count && !pthread_equal(ctx->pools[i].thread, self))
+        i++;
+    if (i == ctx->pool_count) {
+        if (i == GPU_MAX_THREADS) {
+            s = xrad_fail(err, XRAD_ERROR_SYSTEM,
+                          "more than %d threads record GPU commands on one context",
+                          GPU_MAX_THREADS);
+            goto done;
+        }
+        /* Short-lived one-shot command buffers. */
+        VkCommandPoolCreateInfo info = {
+            .sType = VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO,
+            .flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT |
+                     VK_COMMAND_POOL_CREATE_TRANSIENT_BIT,
+            .queueFamilyIndex = ctx->queue_family,
+        };
+        if ((s = VK_CHECK(ctx, err,
+                          vkCreateCommandPool(ctx->device, &info, NULL, &ctx->pools[i].pool))))
+            goto done;
+        ctx->pools[i].thread = self;
+        ctx->pool_count++;
+    }
+    *out = ctx->pools[i].pool;
+done:
+    pthread_mutex_unlock(&ctx->queue_lock);
+    return s;
 }
 
 uint32_t xrad_context_validation_messages(const xrad_context *ctx)
@@ -538,7 +599,7 @@ xrad_status xrad_devices_list(void (*fn)(void *user, const xrad_device_info *inf
     /* A bare instance: listing must work where the validation layer or the
      * chosen device would not. */
     struct xrad_context tmp = {0};
-    xrad_status s = create_instance(&tmp, false, err);
+    xrad_status s = create_instance(&tmp, false, NULL, err);
     VkPhysicalDevice *devs = NULL;
     uint32_t n = 0;
     if (!s)

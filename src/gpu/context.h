@@ -8,6 +8,7 @@
 #ifndef XRAD_GPU_CONTEXT_H
 #define XRAD_GPU_CONTEXT_H
 
+#include <pthread.h>
 #include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -17,6 +18,8 @@
 #include "xrad.h"
 
 struct gpu_memory;
+
+#define GPU_MAX_THREADS 8
 
 /* Optional capabilities, each enabled on the device when supported. */
 typedef struct gpu_features {
@@ -55,7 +58,18 @@ struct xrad_context {
     VkDevice device;
     uint32_t queue_family;
     VkQueue queue;
-    VkCommandPool cmd_pool;
+    /* A command pool per thread that records (gpu_thread_pool): command
+     * buffers of one pool must not be recorded in two threads at once. */
+    struct {
+        pthread_t thread;
+        VkCommandPool pool;
+    } pools[GPU_MAX_THREADS];
+    uint32_t pool_count;
+    /* Held around every use of the queue (submit, present), of `pools`
+     * and of timeline_value, so that a redistribution thread and a display
+     * thread may share the context (schedule/scheduler.h). */
+    pthread_mutex_t queue_lock;
+    bool present; /* VK_KHR_swapchain is enabled */
     /* Every submission signals the next value (gpu_cmd_submit). */
     VkSemaphore timeline;
     uint64_t timeline_value;
@@ -74,6 +88,10 @@ struct xrad_context {
  * including those delivered while a context was being destroyed: the tests'
  * leak check. */
 uint32_t gpu_validation_messages_total(void);
+
+/* The calling thread's command pool, created on its first use; freed with
+ * the context. */
+xrad_status gpu_thread_pool(struct xrad_context *ctx, VkCommandPool *out, xrad_error *err);
 
 /* XRAD_ERROR_SYSTEM naming `what` when the context was lost earlier. */
 xrad_status gpu_context_check_alive(struct xrad_context *ctx, const char *what,

@@ -1,5 +1,6 @@
 #include "gpu/memory.h"
 
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -160,6 +161,9 @@ struct gpu_memory {
     /* $XRAD_GPU_MEMORY_MIB: a smaller budget than the device's, so that
      * "does not fit" can be tried on any machine. 0: none. */
     uint64_t budget_limit;
+    /* A redistribution thread and a display thread allocate from one
+     * context (schedule/scheduler.h). */
+    pthread_mutex_t lock;
 };
 
 const char *gpu_mem_category_name(gpu_mem_category c)
@@ -184,6 +188,10 @@ xrad_status gpu_memory_create(struct xrad_context *ctx, gpu_memory **out, xrad_e
                              "XRAD_GPU_MEMORY_MIB: '%s' is not a size in MiB in (0, 1e9)", limit);
         }
         m->budget_limit = (uint64_t)(mib * 1048576.0);
+    }
+    if (pthread_mutex_init(&m->lock, NULL) != 0) {
+        free(m);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "memory allocator: pthread_mutex_init failed");
     }
     *out = m;
     return XRAD_OK;
@@ -211,6 +219,7 @@ void gpu_memory_destroy(struct xrad_context *ctx, gpu_memory **mem)
         block_destroy(ctx, b);
         b = next;
     }
+    pthread_mutex_destroy(&(*mem)->lock);
     free(*mem);
     *mem = NULL;
 }
@@ -303,9 +312,9 @@ static void unlink_block(gpu_memory *m, struct gpu_block *b)
     }
 }
 
-xrad_status gpu_memory_alloc(struct xrad_context *ctx, const VkMemoryRequirements *req,
-                             gpu_mem_usage usage, bool linear, gpu_mem_category category,
-                             gpu_allocation *out, xrad_error *err)
+static xrad_status alloc_locked(struct xrad_context *ctx, const VkMemoryRequirements *req,
+                                gpu_mem_usage usage, bool linear, gpu_mem_category category,
+                                gpu_allocation *out, xrad_error *err)
 {
     gpu_memory *m = ctx->mem;
     memset(out, 0, sizeof(*out));
@@ -355,11 +364,22 @@ xrad_status gpu_memory_alloc(struct xrad_context *ctx, const VkMemoryRequirement
     return XRAD_OK;
 }
 
+xrad_status gpu_memory_alloc(struct xrad_context *ctx, const VkMemoryRequirements *req,
+                             gpu_mem_usage usage, bool linear, gpu_mem_category category,
+                             gpu_allocation *out, xrad_error *err)
+{
+    pthread_mutex_lock(&ctx->mem->lock);
+    xrad_status s = alloc_locked(ctx, req, usage, linear, category, out, err);
+    pthread_mutex_unlock(&ctx->mem->lock);
+    return s;
+}
+
 void gpu_memory_free(struct xrad_context *ctx, gpu_allocation *a)
 {
     if (!a || !a->block)
         return;
     gpu_memory *m = ctx->mem;
+    pthread_mutex_lock(&m->lock);
     struct gpu_block *b = a->block;
     gpu_suballoc_free(&b->sa, a->offset, a->size);
     m->category_bytes[a->category] -= a->size;
@@ -370,6 +390,7 @@ void gpu_memory_free(struct xrad_context *ctx, gpu_allocation *a)
         unlink_block(m, b);
         block_destroy(ctx, b);
     }
+    pthread_mutex_unlock(&m->lock);
     memset(a, 0, sizeof(*a));
 }
 
@@ -387,6 +408,8 @@ void gpu_memory_get_stats(struct xrad_context *ctx, gpu_memory_stats *stats)
     };
     if (ctx->features.memory_budget)
         vkGetPhysicalDeviceMemoryProperties2(ctx->phys, &props);
+    if (m)
+        pthread_mutex_lock(&m->lock);
     for (uint32_t h = 0; h < stats->heap_count; h++) {
         stats->heap_size[h] = ctx->mem_props.memoryHeaps[h].size;
         stats->heap_bytes[h] = m ? m->heap_bytes[h] : 0;
@@ -399,6 +422,7 @@ void gpu_memory_get_stats(struct xrad_context *ctx, gpu_memory_stats *stats)
         memcpy(stats->category_bytes, m->category_bytes, sizeof(stats->category_bytes));
         stats->blocks = m->block_count;
         stats->allocations = m->allocations;
+        pthread_mutex_unlock(&m->lock);
     }
 }
 

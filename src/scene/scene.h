@@ -63,6 +63,9 @@ typedef struct object {
     /* Elements the object would have at cross_density (same counting rule
      * as its own elements); 0 when cross_density is 0. */
     uint32_t cross_element_count;
+    /* m, world: added to the pose at every time (xrad_scene_set_offset: an
+     * application moving the object by hand); zero from the file. */
+    vec3 offset;
 } object;
 
 /* A planar convex quad with a bilinear parametrisation

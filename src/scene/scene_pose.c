@@ -1,6 +1,8 @@
 /* Surface parametrisation and object poses (scenes/README.md "Poses"). */
 #include <math.h>
+#include <string.h>
 
+#include "core/error.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
 
@@ -59,6 +61,7 @@ xform scene_object_pose(const xrad_scene *scene, uint32_t object_index, double t
     }
     if (a->keyframe_count)
         pose.t = v3_add(pose.t, keyframe_translation(a, t));
+    pose.t = v3_add(pose.t, o->offset);
     return pose;
 }
 
@@ -85,4 +88,40 @@ void scene_bounds(const xrad_scene *scene, double t, vec3 *lo, vec3 *hi)
             *hi = v3(fmax(hi->x, c[k].x), fmax(hi->y, c[k].y), fmax(hi->z, c[k].z));
         }
     }
+}
+
+xrad_status xrad_scene_get_object(const xrad_scene *scene, uint32_t index,
+                                  xrad_object_info *info, xrad_error *err)
+{
+    memset(info, 0, sizeof(*info));
+    if (!scene || index >= scene->object_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "scene: object %u does not exist (%u objects)",
+                         index, scene ? scene->object_count : 0);
+    const object *o = &scene->objects[index];
+    info->name = o->name;
+    info->dynamic = o->dynamic;
+    info->offset[0] = o->offset.x;
+    info->offset[1] = o->offset.y;
+    info->offset[2] = o->offset.z;
+    return XRAD_OK;
+}
+
+xrad_status xrad_scene_set_offset(xrad_scene *scene, uint32_t index, const double offset[3],
+                                  xrad_error *err)
+{
+    if (!scene || index >= scene->object_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "scene: object %u does not exist (%u objects)",
+                         index, scene ? scene->object_count : 0);
+    object *o = &scene->objects[index];
+    if (!o->dynamic)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: object '%s' is static; only dynamic objects may be moved",
+                         scene->path, o->name);
+    for (int k = 0; k < 3; k++)
+        if (!(fabs(offset[k]) <= 1e9))
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "%s: object '%s': offset %g is not a finite distance within 1e9 m",
+                             scene->path, o->name, offset[k]);
+    o->offset = v3(offset[0], offset[1], offset[2]);
+    return XRAD_OK;
 }

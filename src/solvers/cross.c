@@ -242,15 +242,6 @@ fail:
     return st;
 }
 
-static xrad_status solve(xrad_solver *s, xrad_error *err)
-{
-    cross *c = s->impl;
-    c->cached = false;
-    xrad_status st = progressive_run(s, c->prog, true, 0, err);
-    solver_collect_times(s);
-    return st;
-}
-
 /* The patches' frames and quads at scene time t into slot `slot`. The GPU
  * must not be reading that slot. */
 static void write_slot(xrad_solver *s, cross *c, uint32_t slot, double t)
@@ -262,6 +253,18 @@ static void write_slot(xrad_solver *s, cross *c, uint32_t slot, double t)
                          f + (table + CROSS_FRAMES_FRONT) * c->P,
                          f + (table + CROSS_FRAMES_BACK) * c->P,
                          f + (table + CROSS_FRAMES_GATHER) * c->P, q + (size_t)slot * c->P);
+}
+
+static xrad_status solve(xrad_solver *s, xrad_error *err)
+{
+    cross *c = s->impl;
+    c->cached = false;
+    xrad_status st = progressive_run(s, c->prog, true, 0, err);
+    /* The pose in hand, for the first redistribution from it. */
+    if (!st && c->P)
+        write_slot(s, c, c->slot, s->desc.time);
+    solver_collect_times(s);
+    return st;
 }
 
 static uint32_t frames_first(const cross *c, uint32_t slot, uint32_t table)
@@ -331,10 +334,11 @@ static xrad_status run(xrad_solver *s, gpu_cmd *cmd, xrad_error *err)
     return solver_submit_wait(s, cmd, err);
 }
 
-/* The old pose's hemicubes, rendered at the pose in hand (before it moves). */
+/* The old pose's hemicubes, rendered at the pose in hand (before it moves)
+ * from the frames slot c->slot holds since that pose was taken: the scene
+ * may have changed since (xrad_scene_set_offset). */
 static xrad_status render_old_pose(xrad_solver *s, cross *c, xrad_error *err)
 {
-    write_slot(s, c, c->slot, s->desc.time);
     gpu_cmd cmd;
     xrad_status st = gpu_cmd_begin(s->ctx, &cmd, err);
     if (st)

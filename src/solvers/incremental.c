@@ -361,6 +361,18 @@ static xrad_status read_power(xrad_solver *s, incremental *inc, xrad_error *err)
  * solve and ends further from a fresh progressive solve: 0.0019 against
  * 0.0006 image NRMSE after 30 frames of cornell-lowq, 0.0022 against
  * 0.0010 after 300.) */
+/* M's front frames at the pose in hand into the staging table's M entries,
+ * what the next redistribution's ID hemicubes of line 4 are placed on.
+ * Taken when the pose is, because the scene may change before that
+ * redistribution (xrad_scene_set_offset). The C entries follow them. */
+static void pose_m_frames(xrad_solver *s, incremental *inc)
+{
+    struct gpu_shooter *host = inc->staging.alloc.mapped;
+    dynamic_patches_pose(s->scene, &inc->dp, s->gs.time, s->desc.seed, host, NULL, NULL, NULL);
+    for (uint32_t p = 0; p < inc->m_count; p++)
+        host[p].hemicube = p % inc->chunk;
+}
+
 static xrad_status solve(xrad_solver *s, xrad_error *err)
 {
     incremental *inc = s->impl;
@@ -372,8 +384,9 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
     }
     if (!st)
         st = progressive_run(s, inc->engine, true, 0, err);
-    if (!st && inc->m_count && !(st = read_power(s, inc, err)))
-        st = fix_static_layout(s, inc, inc->power.alloc.mapped, err);
+    if (!st && inc->m_count && !(st = read_power(s, inc, err)) &&
+        !(st = fix_static_layout(s, inc, inc->power.alloc.mapped, err)))
+        pose_m_frames(s, inc);
     solver_collect_times(s);
     return st;
 }
@@ -506,12 +519,7 @@ static xrad_status shoot(xrad_solver *s, incremental *inc, uint32_t mode, uint32
 static xrad_status redistribute(xrad_solver *s, incremental *inc, double time, xrad_error *err)
 {
     struct xrad_context *ctx = s->ctx;
-    struct gpu_shooter *host = inc->staging.alloc.mapped;
-    /* Step 1: M's front frames at the old pose, what the ID hemicubes of
-     * line 4 are placed on. */
-    dynamic_patches_pose(s->scene, &inc->dp, s->gs.time, s->desc.seed, host, NULL, NULL, NULL);
-    for (uint32_t p = 0; p < inc->m_count; p++)
-        host[p].hemicube = p % inc->chunk;
+    /* Step 1: from M's front frames at the old pose (pose_m_frames). */
     xrad_status st = shoot(s, inc, INCR_MODE_NEGATIVE, 0, inc->m_count, err);
     if (st)
         return st;
@@ -524,6 +532,7 @@ static xrad_status redistribute(xrad_solver *s, incremental *inc, double time, x
     s->stats.host_waits += (uint32_t)(ctx->timeline_value - before);
     if (st)
         return st;
+    pose_m_frames(s, inc);
     /* Steps 2-3. */
     return shoot(s, inc, INCR_MODE_INCREMENT, inc->m_count, inc->c_count, err);
 }
