@@ -228,6 +228,11 @@ typedef struct xrad_solver_desc {
      * pose, so that exactly what was inserted is removed (thesis 6.2; 3
      * hemicubes per patch and frame). */
     int cross_recompute;
+    /* cross: elements per submission of the cross projection; the
+     * redistribution's hemicubes and gather become submissions of their
+     * own too, so that other work on the queue (a display thread's frames,
+     * xrad view) gets in between. Default 0: one submission. */
+    uint32_t slice_elements;
 } xrad_solver_desc;
 
 #define XRAD_MAX_PASSES 16
@@ -315,6 +320,13 @@ xrad_status xrad_image_read_exr(const char *path, float **rgba, uint32_t *width,
  * xrad_image_auto_exposure. */
 xrad_status xrad_image_write_png(const char *path, const float *rgba, uint32_t width,
                                  uint32_t height, double exposure, xrad_error *err);
+
+/* Reads an 8-bit PNG (as xrad_image_write_png writes) into float RGBA:
+ * sRGB decoded to linear values in [0, 1], alpha 1; *rgba is malloc'd.
+ * Comparing two PNGs of one exposure compares exposure x B where B is not
+ * clipped. */
+xrad_status xrad_image_read_png(const char *path, float **rgba, uint32_t *width,
+                                uint32_t *height, xrad_error *err);
 
 /* The exposure that maps the 95th percentile luminance of the non-zero
  * pixels to 0.8; 1 for an all-zero image. */

@@ -194,9 +194,9 @@ float patch_form_factor(uint slot, uint p, vec3 x, vec3 ne, vec3 d, vec2 cosines
 
 void main()
 {
-    uint e = gl_GlobalInvocationID.x;
-    if (e >= pc.element_count)
+    if (gl_GlobalInvocationID.x >= pc.count)
         return;
+    uint e = pc.first + gl_GlobalInvocationID.x;
     uint se = elements[e].surface;
     gpu_surface sr = surfaces[se];
     uint ke = e - sr.first_element;

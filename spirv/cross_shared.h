@@ -116,6 +116,9 @@ struct cross_reconstruct_push {
     float inv_scale;       /* 1 / the back hemicubes' radiosity scale */
     float diameter;        /* m: back hemicube alpha x this = distance */
     uint pairs;            /* CROSS_PAIRS_* */
+    uint first;            /* elements [first, first + count) of this dispatch */
+    uint count;
+    uint pad0, pad1;
 };
 
 #endif

@@ -27,4 +27,14 @@ struct display_push {
     uint pad0, pad1, pad2;
 };
 
+/* Present pass (src/passes/present.c, spirv/present.vert|frag): the display
+ * target's linear B to a window's 8-bit sRGB image. */
+#define PRESENT_BINDING_SOURCE 0
+
+struct present_push {
+    float exposure;  /* display value = exposure x B, then clamped to [0, 1] */
+    uint encode;     /* 1: the shader applies the sRGB transfer (UNORM swapchain) */
+    uint pad0, pad1;
+};
+
 #endif

@@ -16,6 +16,7 @@ int cmd_compare(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_devices(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
+int cmd_view(int argc, char **argv);
 
 /* Scans argv for options. Each call to cli_next returns the next option name
  * (without leading dashes) or NULL at the end; positional arguments are

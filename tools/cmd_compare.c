@@ -1,4 +1,5 @@
-/* xrad compare A.exr B.exr: NRMSE of A against B (thesis table 5.1 metric). */
+/* xrad compare A B: NRMSE of A against B (thesis table 5.1 metric), EXR or
+ * PNG images. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -8,9 +9,10 @@
 
 static void help(void)
 {
-    printf("usage: xrad compare A.exr B.exr [--diff FILE.exr|FILE.png]\n\n"
+    printf("usage: xrad compare A.exr|A.png B.exr|B.png [--diff FILE.exr|FILE.png]\n\n"
            "Prints 'nrmse <value>': the RMS over all pixels and RGB channels of (A - B),\n"
-           "divided by (max - min) of B's RGB values. B is the reference.\n\n"
+           "divided by (max - min) of B's RGB values. B is the reference. PNG values\n"
+           "are compared linear (sRGB decoded), so compare PNGs of one exposure.\n\n"
            "  --diff FILE   also write |A - B| per channel (EXR linear, PNG auto-exposed)\n");
 }
 
@@ -32,14 +34,16 @@ int cmd_compare(int argc, char **argv)
     if (a.failed)
         return 1;
     if (a.positional_count != 2)
-        return cli_usage_error("compare", "needs two EXR images (see xrad compare --help)");
+        return cli_usage_error("compare", "needs two images (see xrad compare --help)");
 
     xrad_error err = {0};
     float *img[2] = {NULL, NULL};
     uint32_t w[2], h[2];
     int rc = 0;
     for (int i = 0; i < 2 && rc == 0; i++)
-        if (xrad_image_read_exr(a.positional[i], &img[i], &w[i], &h[i], &err))
+        if ((cli_has_ext(a.positional[i], ".png")
+                 ? xrad_image_read_png(a.positional[i], &img[i], &w[i], &h[i], &err)
+                 : xrad_image_read_exr(a.positional[i], &img[i], &w[i], &h[i], &err)))
             rc = cli_report(&err);
     if (rc == 0 && (w[0] != w[1] || h[0] != h[1])) {
         fprintf(stderr, "xrad compare: %s is %ux%u but %s is %ux%u\n", a.positional[0], w[0],

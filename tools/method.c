@@ -101,6 +101,8 @@ int method_solver_option(cli_args *a, const char *opt, xrad_solver_desc *d)
         d->back_nearest = 1;
     else if (!strcmp(opt, "cross-recompute"))
         d->cross_recompute = 1;
+    else if (!strcmp(opt, "slice"))
+        cli_uint(a, 0, UINT32_MAX, &d->slice_elements);
     else
         return 0;
     return 1;

@@ -24,7 +24,8 @@
     "  --back-msaa N     cross: back hemicube samples, 1 or 4 [4]\n"                            \
     "  --back-nearest    cross: nearest back hemicube samples (default bilinear)\n"             \
     "  --cross-recompute cross: render all four hemicubes per patch each frame\n"               \
-    "                    (thesis) instead of keeping the last frame's\n"
+    "                    (thesis) instead of keeping the last frame's\n"                       \
+    "  --slice N         cross: elements per submission of the cross projection [0 = all]\n"
 
 /* Takes `opt` (and its value) into `d` if it is one of the options above;
  * returns 0 when it is not. */

@@ -10,6 +10,9 @@ static const struct {
     const char *summary;
 } commands[] = {
     {"render", cmd_render, "solve a scene and write the camera's image (PNG and/or EXR)"},
+#ifdef XRAD_HAVE_VIEW
+    {"view", cmd_view, "show a scene in a window while its objects move (real-time loop)"},
+#endif
     {"bench", cmd_bench, "time methods on scenes and measure their error against a reference"},
     {"compare", cmd_compare, "print the NRMSE of one EXR image against another"},
     {"info", cmd_info, "print a scene's surfaces, elements, atlas and memory"},

@@ -50,3 +50,48 @@ xrad_status xrad_image_write_png(const char *path, const float *rgba, uint32_t w
     }
     return XRAD_OK;
 }
+
+xrad_status xrad_image_read_png(const char *path, float **rgba, uint32_t *width,
+                                uint32_t *height, xrad_error *err)
+{
+    *rgba = NULL;
+    png_image img;
+    memset(&img, 0, sizeof(img));
+    img.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&img, path))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: cannot read PNG: %s", path, img.message);
+    img.format = PNG_FORMAT_RGBA;
+    size_t n = (size_t)img.width * img.height;
+    uint8_t *px = malloc(n * 4);
+    float *out = malloc(n * 4 * sizeof(float));
+    if (!px || !out) {
+        png_image_free(&img);
+        free(px);
+        free(out);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory", path);
+    }
+    if (!png_image_finish_read(&img, NULL, px, 0, NULL)) {
+        xrad_status st = xrad_fail(err, XRAD_ERROR_INPUT, "%s: cannot read PNG: %s", path,
+                                   img.message);
+        png_image_free(&img);
+        free(px);
+        free(out);
+        return st;
+    }
+    /* The inverse of srgb_encode: linear values in [0, 1]. */
+    float lut[256];
+    for (int i = 0; i < 256; i++) {
+        double s = i / 255.0;
+        lut[i] = (float)(s <= 0.04045 ? s / 12.92 : pow((s + 0.055) / 1.055, 2.4));
+    }
+    for (size_t i = 0; i < n; i++) {
+        for (int c = 0; c < 3; c++)
+            out[i * 4 + c] = lut[px[i * 4 + c]];
+        out[i * 4 + 3] = 1.0f;
+    }
+    free(px);
+    *rgba = out;
+    *width = img.width;
+    *height = img.height;
+    return XRAD_OK;
+}

@@ -250,7 +250,7 @@ xrad_status gpu_render_pass_create(struct xrad_context *ctx, const gpu_render_pa
         .pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS,
         .colorAttachmentCount = 1,
         .pColorAttachments = &color,
-        .pDepthStencilAttachment = &depth,
+        .pDepthStencilAttachment = desc->depth_format ? &depth : NULL,
     };
     const VkPipelineStageFlags attach = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT |
                                         VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT |
@@ -294,7 +294,7 @@ xrad_status gpu_render_pass_create(struct xrad_context *ctx, const gpu_render_pa
     VkRenderPassCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO,
         .pNext = desc->view_mask ? &multiview : NULL,
-        .attachmentCount = 2,
+        .attachmentCount = desc->depth_format ? 2 : 1,
         .pAttachments = att,
         .subpassCount = 1,
         .pSubpasses = &subpass,

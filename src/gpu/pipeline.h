@@ -45,8 +45,8 @@ xrad_status gpu_compute_pipeline_create(struct xrad_context *ctx, const uint32_t
                                         const VkSpecializationInfo *spec, VkPipeline *out,
                                         xrad_error *err);
 
-/* A render pass of one subpass with one colour and one depth attachment,
- * both cleared on load; the colour is stored and left in
+/* A render pass of one subpass with one colour and one depth attachment
+ * (none where depth_format is VK_FORMAT_UNDEFINED), both cleared on load; the colour is stored and left in
  * `color_final_layout`, the depth is not stored. Its dependencies order it
  * after earlier draws and after earlier readers of the images (compute,
  * fragment, transfer), and before later readers. view_mask != 0 makes it a

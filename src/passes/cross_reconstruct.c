@@ -89,7 +89,9 @@ void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
         .inv_scale = (float)(1.0 / q->back_scale),
         .diameter = (float)q->diameter,
         .pairs = q->pairs,
+        .first = q->first,
+        .count = q->count ? q->count : q->element_count - q->first,
     };
-    gpu_kernel_dispatch(&p->kernel, cmd, q->new_slot, &push, q->element_count,
+    gpu_kernel_dispatch(&p->kernel, cmd, q->new_slot, &push, push.count,
                         CROSS_RECONSTRUCT_GROUP);
 }

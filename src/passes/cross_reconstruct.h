@@ -47,6 +47,9 @@ typedef struct cross_reconstruct_params {
     double back_scale;      /* the back hemicubes hold shot radiosity x this */
     double diameter;        /* m, the back hemicubes' alpha x this = distance */
     uint32_t pairs;         /* CROSS_PAIRS_READ | CROSS_PAIRS_WRITE */
+    /* Elements [first, first + count) (count 0: all): a redistribution
+     * may be cut into several submissions. */
+    uint32_t first, count;
 } cross_reconstruct_params;
 
 xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,

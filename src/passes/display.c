@@ -111,8 +111,14 @@ void display_mesh_free(display_mesh *mesh)
 xrad_status display_camera_make(const xrad_scene *scene, uint32_t width, uint32_t height,
                                 double time, display_camera *cam, xrad_error *err)
 {
+    return display_camera_from(scene, &scene->cam, width, height, time, cam, err);
+}
+
+xrad_status display_camera_from(const xrad_scene *scene, const camera *c, uint32_t width,
+                                uint32_t height, double time, display_camera *cam,
+                                xrad_error *err)
+{
     memset(cam, 0, sizeof(*cam));
-    const camera *c = &scene->cam;
     vec3 fwd = v3_sub(c->look_at, c->position);
     double dist = v3_len(fwd);
     if (!(dist > 0) || !v3_finite(fwd))
@@ -329,7 +335,9 @@ xrad_status display_target_create(struct xrad_context *ctx, const display_pass *
         .format = DISPLAY_COLOR_FORMAT,
         .width = width,
         .height = height,
-        .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+        /* Sampled: xrad view's present pass reads it. */
+        .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
+                 VK_IMAGE_USAGE_SAMPLED_BIT,
         .category = GPU_MEM_RENDER_TARGET,
     };
     gpu_image_desc depth = {

@@ -73,6 +73,13 @@ typedef struct display_camera {
 xrad_status display_camera_make(const xrad_scene *scene, uint32_t width, uint32_t height,
                                 double time, display_camera *cam, xrad_error *err);
 
+/* The same from another camera than the scene's (xrad view's fly camera);
+ * its width and height are not used. */
+struct camera;
+xrad_status display_camera_from(const xrad_scene *scene, const struct camera *c, uint32_t width,
+                                uint32_t height, double time, display_camera *cam,
+                                xrad_error *err);
+
 typedef struct display_pass display_pass;
 
 xrad_status display_create(struct xrad_context *ctx, display_pass **out, xrad_error *err);

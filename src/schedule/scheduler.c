@@ -36,6 +36,7 @@ struct scheduler {
     xrad_error error;
     scheduler_request pending;
     uint64_t pending_serial, taken_serial, published_serial;
+    uint64_t published_value; /* n of the publication of published_serial */
     int front, ready;               /* atlas indices; ready -1: none waiting */
     uint64_t front_value, ready_value;
     double front_time, ready_time;
@@ -107,6 +108,7 @@ static xrad_status publish(scheduler *s, double time, uint64_t serial, xrad_erro
     s->ready_value = n;
     s->ready_time = time;
     s->published_serial = serial;
+    s->published_value = n;
     scheduler_stats *t = &s->stats;
     t->published = n;
     t->time = time;
@@ -271,8 +273,10 @@ xrad_status scheduler_wait_published(scheduler *s, uint64_t request_serial, xrad
         *err = s->error;
         st = s->error.status ? s->error.status : XRAD_ERROR_SYSTEM;
     }
+    uint64_t value = s->published_value;
     pthread_mutex_unlock(&s->lock);
-    return st;
+    /* ... and completed on the GPU, so that the next frame_begin swaps. */
+    return st ? st : gpu_timeline_wait(s->ctx, s->redistributed, value, err);
 }
 
 void scheduler_get_stats(scheduler *s, scheduler_stats *out)

@@ -102,9 +102,10 @@ xrad_status scheduler_frame_begin(scheduler *s, scheduler_frame *f, xrad_error *
 xrad_status scheduler_frame_end(scheduler *s, const scheduler_frame *f, bool submitted,
                                 xrad_error *err);
 
-/* Blocks until a redistribution to exactly request `serial` (the value
- * scheduler_request_frame's n-th call makes, counting from 1) has been
- * published, or the worker failed. For tests and screenshots. */
+/* Blocks until request `serial` (scheduler_request_frame's n-th call,
+ * counting from 1), or a later one that replaced it, has been published
+ * and its publication completed on the GPU (the next frame_begin swaps to
+ * it), or the worker failed. For tests and screenshots. */
 xrad_status scheduler_wait_published(scheduler *s, uint64_t request_serial, xrad_error *err);
 
 /* A copy of the statistics. */

@@ -350,11 +350,11 @@ static xrad_status render_old_pose(xrad_solver *s, cross *c, xrad_error *err)
     return run(s, &cmd, err);
 }
 
-static void record_redistribution(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot,
-                                  uint32_t pairs)
+/* The redistribution's first part: M's values leave the solution, the
+ * new pose's front and back hemicubes. */
+static void record_update(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot)
 {
-    const gpu_scene *gs = &s->gs;
-    uint32_t n = gs->element_count, P = c->P;
+    uint32_t n = s->gs.element_count, P = c->P;
     full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.update");
     cross_update_record(c->update, cmd, CROSS_UPDATE_SHOT, P, n);
@@ -363,8 +363,15 @@ static void record_redistribution(xrad_solver *s, cross *c, VkCommandBuffer cmd,
     compute_barrier(cmd);
     record_shot_atlas(s, c, cmd);
     gpu_timer_end(s->timer, cmd);
-
     record_pose_hemicubes(s, c, cmd, slot);
+}
+
+/* R_g(C, M) at the patches' coarse samples. */
+static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot)
+{
+    const gpu_scene *gs = &s->gs;
+    uint32_t n = gs->element_count, P = c->P;
+    full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.gather");
     hemicube_record(c->gather, cmd,
                     &(hemicube_draw){.vertices = &gs->vertices, .vertex_count = gs->vertex_count,
@@ -382,12 +389,18 @@ static void record_redistribution(xrad_solver *s, cross *c, VkCommandBuffer cmd,
     cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, P, n);
     compute_barrier(cmd);
     gpu_timer_end(s->timer, cmd);
+}
 
+/* The cross projection of elements [first, first + count). */
+static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot,
+                               uint32_t pairs, uint32_t first, uint32_t count)
+{
+    full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.reconstruct");
     cross_reconstruct_record(c->reconstruct, cmd,
                              &(cross_reconstruct_params){
-                                 .element_count = n,
-                                 .patch_count = P,
+                                 .element_count = s->gs.element_count,
+                                 .patch_count = c->P,
                                  .hemicube_res = s->desc.hemicube_res,
                                  .back_res = s->desc.back_res,
                                  .grid = s->desc.cross_grid,
@@ -397,8 +410,43 @@ static void record_redistribution(xrad_solver *s, cross *c, VkCommandBuffer cmd,
                                  .back_scale = c->scale,
                                  .diameter = c->diameter,
                                  .pairs = pairs,
+                                 .first = first,
+                                 .count = count,
                              });
     gpu_timer_end(s->timer, cmd);
+}
+
+/* The redistribution to the pose in slot `slot`: one submission, or with
+ * desc.slice_elements, one for the hemicubes, one for the gather and one
+ * per slice of the cross projection, each waited for, so that another
+ * thread's work on the queue (a display) gets in between. */
+static xrad_status redistribute(xrad_solver *s, cross *c, uint32_t slot, uint32_t pairs,
+                                xrad_error *err)
+{
+    uint32_t n = s->gs.element_count, slice = s->desc.slice_elements;
+    gpu_cmd cmd;
+    xrad_status st = gpu_cmd_begin(s->ctx, &cmd, err);
+    if (st)
+        return st;
+    gpu_timer_start(s->timer, cmd.cmd);
+    record_update(s, c, cmd.cmd, slot);
+    if (slice) {
+        if ((st = run(s, &cmd, err)) || (st = gpu_cmd_begin(s->ctx, &cmd, err)))
+            return st;
+        gpu_timer_start(s->timer, cmd.cmd);
+    }
+    record_gather(s, c, cmd.cmd, slot);
+    for (uint32_t first = 0; first < n;) {
+        uint32_t count = slice && slice < n - first ? slice : n - first;
+        if (slice) {
+            if ((st = run(s, &cmd, err)) || (st = gpu_cmd_begin(s->ctx, &cmd, err)))
+                return st;
+            gpu_timer_start(s->timer, cmd.cmd);
+        }
+        record_reconstruct(s, c, cmd.cmd, slot, pairs, first, count);
+        first += count;
+    }
+    return run(s, &cmd, err);
 }
 
 static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
@@ -417,13 +465,8 @@ static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
             return st;
         uint32_t slot = 1 - c->slot;
         write_slot(s, c, slot, time);
-        gpu_cmd cmd;
-        if ((st = gpu_cmd_begin(s->ctx, &cmd, err)))
-            return st;
-        gpu_timer_start(s->timer, cmd.cmd);
-        record_redistribution(s, c, cmd.cmd, slot, pairs);
         c->cached = false;
-        if ((st = run(s, &cmd, err)))
+        if ((st = redistribute(s, c, slot, pairs, err)))
             return st;
         c->slot = slot;
         c->cached = true;

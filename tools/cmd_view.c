@@ -1,0 +1,601 @@
+/* xrad view SCENE: the real-time loop in a window (GLFW). Redistribution
+ * runs on the scheduler's thread (schedule/scheduler.h), display here
+ * (render/viewer.h); the window title shows both rates and the pass times.
+ * Unlike the other commands this one reaches into the library's internals
+ * (the scheduler and viewer are not public API yet). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define GLFW_INCLUDE_VULKAN
+#include <GLFW/glfw3.h>
+
+#include "cli.h"
+#include "method.h"
+
+#include "gpu/context.h"
+#include "render/viewer.h"
+#include "scene/scene.h"
+#include "scene/scene_internal.h"
+#include "schedule/scheduler.h"
+
+static void help(void)
+{
+    printf("usage: xrad view SCENE.json [options]\n\n"
+           "Shows the scene in a window while its dynamic objects move: redistribution\n"
+           "(thesis 4.5) runs on its own thread and the window shows the newest complete\n"
+           "solution (two atlases, swapped at timeline values; thesis 4.5.3).\n\n"
+           "  --method NAME     progressive (solve anew each frame), incremental or cross\n"
+           "                    [cross]; switch at run time with 1 2 3\n"
+           "  --time T          scene time to start at [0]\n"
+           "  --fps F           scene frames per second of --frames and N [30]\n"
+           "  --speed S         animation speed, scene seconds per second [1]\n"
+           "  --width N, --height N   window size [the scene camera's, else 960 x 720]\n"
+           "  --exposure E      display scale factor; 0 = auto from the first solution [0]\n"
+           "  --nearest         show elements as flat squares\n"
+           "  --no-vsync        present without waiting for the display's refresh\n"
+           "  --screenshot FILE with --frames: save the last frame (.png tone-mapped as shown,\n"
+           "                    .exr linear) and exit\n"
+           "  --frames N        show N frames, frame k at scene time T + k / F, the last one\n"
+           "                    once its redistribution is complete, then exit\n"
+           "  --resize-at N     (tests) resize the window at frame N to --resize-to\n"
+           "  --resize-to WxH   [half the window]\n"
+           METHOD_SOLVER_OPTIONS_HELP
+           "                    (view's defaults: --slice 512 --batch 4, so that display\n"
+           "                    frames get in between redistribution submissions)\n"
+           "  --device NAME     Vulkan device (substring; see xrad devices)\n\n"
+           "Press ? or F1 in the window for the keys. Exit status 2 when there is no\n"
+           "display or the device cannot present to it.\n");
+}
+
+static void keymap(void)
+{
+    printf("xrad view keys:\n"
+           "  left mouse drag        look around\n"
+           "  W A S D, Q E           move forward, left, back, right; down, up\n"
+           "  mouse wheel            movement speed up / down\n"
+           "  Space                  pause / resume the animation\n"
+           "  N                      one frame forward (1/fps) while paused\n"
+           "  1 2 3                  method: progressive (restart), incremental, cross\n"
+           "  G                      grab the next dynamic object (after the last: release)\n"
+           "  arrows, PgUp PgDn      move the grabbed object: on the ground, down, up\n"
+           "  + -                    exposure up / down\n"
+           "  V                      elements (nearest) / interpolated\n"
+           "  R                      camera back to the scene's\n"
+           "  F2                     screenshot to out/view-NNNN.png\n"
+           "  ? F1                   this list\n"
+           "  Esc                    quit\n");
+    fflush(stdout);
+}
+
+typedef struct view_opts {
+    const char *scene, *method, *device, *screenshot;
+    double time, fps, speed, exposure;
+    uint32_t width, height, frames, resize_at, resize_w, resize_h;
+    int nearest, no_vsync;
+    xrad_solver_desc solver;
+} view_opts;
+
+static int parse(int argc, char **argv, view_opts *o)
+{
+    cli_args a;
+    cli_init(&a, argc, argv);
+    const char *opt;
+    o->method = "cross";
+    o->fps = 30;
+    o->speed = 1;
+    /* Redistribution in slices and small progressive batches: on a device
+     * with one queue (lavapipe) display frames get in between them. */
+    o->solver.slice_elements = 512;
+    o->solver.batch = 4;
+    while ((opt = cli_next(&a)) && !a.failed) {
+        if (cli_is_help(opt)) {
+            help();
+            return -1;
+        } else if (!strcmp(opt, "method")) {
+            o->method = cli_value(&a);
+        } else if (!strcmp(opt, "time")) {
+            cli_double(&a, -1e6, 1e6, &o->time);
+        } else if (!strcmp(opt, "fps")) {
+            cli_double(&a, 1e-3, 1e6, &o->fps);
+        } else if (!strcmp(opt, "speed")) {
+            cli_double(&a, 0, 1e6, &o->speed);
+        } else if (!strcmp(opt, "exposure")) {
+            cli_double(&a, 0, 1e12, &o->exposure);
+        } else if (!strcmp(opt, "width")) {
+            cli_uint(&a, 16, 16384, &o->width);
+        } else if (!strcmp(opt, "height")) {
+            cli_uint(&a, 16, 16384, &o->height);
+        } else if (!strcmp(opt, "frames")) {
+            cli_uint(&a, 1, 100000000, &o->frames);
+        } else if (!strcmp(opt, "screenshot")) {
+            o->screenshot = cli_value(&a);
+        } else if (!strcmp(opt, "resize-at")) {
+            cli_uint(&a, 1, 100000000, &o->resize_at);
+        } else if (!strcmp(opt, "resize-to")) {
+            const char *v = cli_value(&a);
+            if (v && sscanf(v, "%ux%u", &o->resize_w, &o->resize_h) != 2)
+                return cli_usage_error("view", "--resize-to: '%s' is not WxH", v);
+        } else if (!strcmp(opt, "nearest")) {
+            o->nearest = 1;
+        } else if (!strcmp(opt, "no-vsync")) {
+            o->no_vsync = 1;
+        } else if (!strcmp(opt, "device")) {
+            o->device = cli_value(&a);
+        } else if (!method_solver_option(&a, opt, &o->solver)) {
+            cli_unknown(&a, opt);
+        }
+    }
+    if (a.failed)
+        return 1;
+    if (a.positional_count != 1)
+        return cli_usage_error("view", "expected one scene file, got %d", a.positional_count);
+    o->scene = a.positional[0];
+    xrad_method m = xrad_method_from_name(o->method);
+    if (m != XRAD_METHOD_PROGRESSIVE && m != XRAD_METHOD_INCREMENTAL && m != XRAD_METHOD_CROSS)
+        return cli_usage_error("view", "--method: '%s' is not progressive, incremental or cross",
+                               o->method);
+    o->solver.method = m;
+    if (o->screenshot && !o->frames)
+        return cli_usage_error("view", "--screenshot needs --frames N");
+    if (o->screenshot && !cli_has_ext(o->screenshot, ".png") &&
+        !cli_has_ext(o->screenshot, ".exr"))
+        return cli_usage_error("view", "--screenshot: '%s' is neither .png nor .exr",
+                               o->screenshot);
+    return 0;
+}
+
+/* ---------------------------------------------------------- input state */
+
+typedef struct view_state {
+    GLFWwindow *window;
+    xrad_scene *scene; /* the display's copy */
+    camera home, cam;
+    double move_speed; /* m/s */
+    double exposure;   /* 0: automatic (the viewer's) */
+    bool paused, step, nearest, screenshot_key;
+    xrad_method method;
+    int grabbed;       /* object index, -1: none */
+    double offsets[SCHEDULER_MAX_OBJECTS][3];
+    bool dragging;
+    double drag_x, drag_y;
+    double diameter;   /* m, the scene's bounding box diagonal */
+} view_state;
+
+static vec3 cam_forward(const camera *c)
+{
+    return v3_norm(v3_sub(c->look_at, c->position));
+}
+
+/* Turns the camera by yaw about its up vector and pitch about its right. */
+static void cam_turn(camera *c, double yaw, double pitch)
+{
+    vec3 f = cam_forward(c), up = v3_norm(c->up);
+    vec3 right = v3_norm(v3_cross(f, up));
+    vec3 f1 = v3_add(v3_scale(f, cos(yaw)), v3_scale(right, -sin(yaw)));
+    vec3 f2 = v3_add(v3_scale(f1, cos(pitch)), v3_scale(up, sin(pitch)));
+    /* Not over the pole: the view would flip. */
+    if (fabs(v3_dot(v3_norm(f2), up)) < 0.995)
+        f1 = f2;
+    c->look_at = v3_add(c->position, v3_norm(f1));
+}
+
+static void grab_next(view_state *st)
+{
+    uint32_t n = st->scene->object_count;
+    for (uint32_t k = 1; k <= n; k++) {
+        int i = st->grabbed + (int)k;
+        if (i >= (int)n)
+            break;
+        if (st->scene->objects[i].dynamic && i < SCHEDULER_MAX_OBJECTS) {
+            st->grabbed = i;
+            printf("grabbed '%s' (arrows, PgUp/PgDn move it; G: next)\n",
+                   st->scene->objects[i].name);
+            fflush(stdout);
+            return;
+        }
+    }
+    if (st->grabbed >= 0)
+        printf("released\n");
+    else
+        printf("the scene has no dynamic object to grab\n");
+    fflush(stdout);
+    st->grabbed = -1;
+}
+
+static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
+{
+    (void)scancode;
+    (void)mods;
+    view_state *st = glfwGetWindowUserPointer(w);
+    if (action != GLFW_PRESS)
+        return;
+    switch (key) {
+    case GLFW_KEY_ESCAPE: glfwSetWindowShouldClose(w, GLFW_TRUE); break;
+    case GLFW_KEY_SPACE: st->paused = !st->paused; break;
+    case GLFW_KEY_N: st->step = true; break;
+    case GLFW_KEY_1: st->method = XRAD_METHOD_PROGRESSIVE; break;
+    case GLFW_KEY_2: st->method = XRAD_METHOD_INCREMENTAL; break;
+    case GLFW_KEY_3: st->method = XRAD_METHOD_CROSS; break;
+    case GLFW_KEY_G: grab_next(st); break;
+    case GLFW_KEY_V: st->nearest = !st->nearest; break;
+    case GLFW_KEY_R: st->cam = st->home; break;
+    case GLFW_KEY_F1: keymap(); break;
+    case GLFW_KEY_F2: st->screenshot_key = true; break;
+    case GLFW_KEY_KP_ADD: st->exposure *= 1.25; break;
+    case GLFW_KEY_KP_SUBTRACT: st->exposure /= 1.25; break;
+    default: break;
+    }
+}
+
+/* Characters, so that '?', '+' and '-' work on any keyboard layout. */
+static void on_char(GLFWwindow *w, unsigned int c)
+{
+    view_state *st = glfwGetWindowUserPointer(w);
+    if (c == '?')
+        keymap();
+    else if (c == '+' || c == '=')
+        st->exposure *= 1.25;
+    else if (c == '-')
+        st->exposure /= 1.25;
+}
+
+static void on_button(GLFWwindow *w, int button, int action, int mods)
+{
+    (void)mods;
+    view_state *st = glfwGetWindowUserPointer(w);
+    if (button != GLFW_MOUSE_BUTTON_LEFT)
+        return;
+    st->dragging = action == GLFW_PRESS;
+    glfwGetCursorPos(w, &st->drag_x, &st->drag_y);
+}
+
+static void on_cursor(GLFWwindow *w, double x, double y)
+{
+    view_state *st = glfwGetWindowUserPointer(w);
+    if (!st->dragging)
+        return;
+    double k = st->cam.fov_y / 600.0; /* radians per pixel */
+    cam_turn(&st->cam, (x - st->drag_x) * k, -(y - st->drag_y) * k);
+    st->drag_x = x;
+    st->drag_y = y;
+}
+
+static void on_scroll(GLFWwindow *w, double dx, double dy)
+{
+    (void)dx;
+    view_state *st = glfwGetWindowUserPointer(w);
+    st->move_speed *= pow(1.25, dy);
+}
+
+static bool held(GLFWwindow *w, int key)
+{
+    return glfwGetKey(w, key) == GLFW_PRESS;
+}
+
+/* Held keys: the camera flies, the grabbed object moves. */
+static void poll_motion(view_state *st, double dt)
+{
+    GLFWwindow *w = st->window;
+    camera *c = &st->cam;
+    vec3 f = cam_forward(c), up = v3_norm(c->up), right = v3_norm(v3_cross(f, up));
+    vec3 d = v3(0, 0, 0);
+    d = v3_add(d, v3_scale(f, held(w, GLFW_KEY_W) - held(w, GLFW_KEY_S)));
+    d = v3_add(d, v3_scale(right, held(w, GLFW_KEY_D) - held(w, GLFW_KEY_A)));
+    d = v3_add(d, v3_scale(up, held(w, GLFW_KEY_E) - held(w, GLFW_KEY_Q)));
+    d = v3_scale(d, st->move_speed * dt);
+    c->position = v3_add(c->position, d);
+    c->look_at = v3_add(c->look_at, d);
+    if (st->grabbed < 0)
+        return;
+    /* On the ground: forward and right without their up part. */
+    vec3 gf = v3_norm(v3_sub(f, v3_scale(up, v3_dot(f, up))));
+    vec3 gr = v3_norm(v3_cross(gf, up));
+    vec3 m = v3(0, 0, 0);
+    m = v3_add(m, v3_scale(gf, held(w, GLFW_KEY_UP) - held(w, GLFW_KEY_DOWN)));
+    m = v3_add(m, v3_scale(gr, held(w, GLFW_KEY_RIGHT) - held(w, GLFW_KEY_LEFT)));
+    m = v3_add(m, v3_scale(up, held(w, GLFW_KEY_PAGE_UP) - held(w, GLFW_KEY_PAGE_DOWN)));
+    m = v3_scale(m, 0.25 * st->move_speed * dt);
+    double *o = st->offsets[st->grabbed];
+    o[0] += m.x;
+    o[1] += m.y;
+    o[2] += m.z;
+    xrad_error err;
+    xrad_scene_set_offset(st->scene, (uint32_t)st->grabbed, o, &err);
+}
+
+/* ---------------------------------------------------------------- title */
+
+/* The n largest means of a sliding table, "name ms" joined. */
+static void top_passes(const sliding_table *t, int n, char *out, size_t size)
+{
+    bool used[SLIDING_SERIES] = {0};
+    size_t len = 0;
+    out[0] = 0;
+    for (int k = 0; k < n; k++) {
+        int best = -1;
+        for (uint32_t i = 0; i < t->count; i++)
+            if (!used[i] && t->names[i][0] != '(' &&
+                (best < 0 || sliding_mean(&t->series[i]) > sliding_mean(&t->series[best])))
+                best = (int)i;
+        if (best < 0)
+            break;
+        used[best] = true;
+        len += (size_t)snprintf(out + len, len < size ? size - len : 0, "%s%s %.1f",
+                                k ? ", " : "", t->names[best], sliding_mean(&t->series[best]));
+    }
+}
+
+static void update_title(view_state *st, const char *name, scheduler *sch, viewer *vw)
+{
+    scheduler_stats ss;
+    viewer_stats vs;
+    scheduler_get_stats(sch, &ss);
+    viewer_get_stats(vw, &vs);
+    double frame = sliding_mean(&vs.frame_ms);
+    char solver[256], display[128], title[640];
+    top_passes(&ss.passes, 3, solver, sizeof(solver));
+    top_passes(&vs.passes, 2, display, sizeof(display));
+    snprintf(title, sizeof(title),
+             "xrad view: %s | %s | display %.1f fps | redistribution %.0f ms (%s)%s | GPU ms: "
+             "%s; %s",
+             name, xrad_method_name(st->method), frame > 0 ? 1000.0 / frame : 0.0,
+             ss.redistribute_ms, ss.published ? "running" : "first solve",
+             st->paused ? " | paused" : "", solver, display);
+    glfwSetWindowTitle(st->window, title);
+}
+
+static void print_summary(scheduler *sch, viewer *vw)
+{
+    scheduler_stats ss;
+    viewer_stats vs;
+    scheduler_get_stats(sch, &ss);
+    viewer_get_stats(vw, &vs);
+    double frame = sliding_mean(&vs.frame_ms);
+    printf("view: %llu frames, display %.1f fps (%.2f ms a frame), %llu redistributions, "
+           "%.1f ms each (means of the last %d)\n",
+           (unsigned long long)vs.frames, frame > 0 ? 1000.0 / frame : 0.0, frame,
+           (unsigned long long)ss.published, ss.redistribute_ms, SLIDING_WINDOW);
+    printf("  GPU ms per pass (sliding means):\n");
+    for (uint32_t i = 0; i < ss.passes.count; i++)
+        if (ss.passes.names[i][0] != '(')
+            printf("    %-24s %9.2f  (redistribution)\n", ss.passes.names[i],
+                   sliding_mean(&ss.passes.series[i]));
+    for (uint32_t i = 0; i < vs.passes.count; i++)
+        printf("    %-24s %9.2f  (display frame)\n", vs.passes.names[i],
+               sliding_mean(&vs.passes.series[i]));
+    printf("  swapchain recreations: %u, exposure %.4g\n", vs.recreations, vs.exposure);
+}
+
+/* ---------------------------------------------------------------- loop */
+
+static char glfw_message[512];
+
+static void on_glfw_error(int code, const char *message)
+{
+    snprintf(glfw_message, sizeof(glfw_message), "%s (GLFW error 0x%x)", message, code);
+}
+
+static xrad_status run(const view_opts *o, view_state *st, scheduler *sch, viewer *vw,
+                       xrad_error *err)
+{
+    char name[128];
+    cli_basename_noext(o->scene, name, sizeof(name));
+    double anim = o->time, last = glfwGetTime(), last_title = 0;
+    scheduler_request req;
+    memset(&req, 0, sizeof(req));
+    uint64_t requests = 0;
+    uint32_t shots = 0;
+    xrad_status s = XRAD_OK;
+    for (uint32_t frame = 1; !glfwWindowShouldClose(st->window); frame++) {
+        glfwPollEvents();
+        double now = glfwGetTime(), dt = now - last;
+        last = now;
+        poll_motion(st, dt);
+        if (o->frames) {
+            anim = o->time + frame / o->fps;
+        } else if (!st->paused) {
+            anim += dt * o->speed;
+        } else if (st->step) {
+            anim += 1.0 / o->fps;
+        }
+        st->step = false;
+        if (o->resize_at && frame == o->resize_at) {
+            int w, h;
+            glfwGetFramebufferSize(st->window, &w, &h);
+            glfwSetWindowSize(st->window, o->resize_w ? (int)o->resize_w : w / 2,
+                              o->resize_h ? (int)o->resize_h : h / 2);
+        }
+
+        /* A request when the pose or the method changed. */
+        scheduler_request r;
+        memset(&r, 0, sizeof(r)); /* padding too: requests are compared bytewise */
+        r.time = anim;
+        r.method = st->method;
+        r.offset_count = st->scene->object_count < SCHEDULER_MAX_OBJECTS
+                             ? st->scene->object_count
+                             : SCHEDULER_MAX_OBJECTS;
+        memcpy(r.offsets, st->offsets, sizeof(r.offsets));
+        if (!requests || memcmp(&r, &req, sizeof(r))) {
+            scheduler_request_frame(sch, &r);
+            req = r;
+            requests++;
+        }
+        bool last_frame = o->frames && frame >= o->frames;
+        if (last_frame && (s = scheduler_wait_published(sch, requests, err)))
+            return s;
+        if ((s = scheduler_status(sch, err)))
+            return s;
+
+        char shot[64];
+        const char *screenshot = NULL;
+        if (last_frame && o->screenshot) {
+            screenshot = o->screenshot;
+        } else if (st->screenshot_key) {
+            snprintf(shot, sizeof(shot), "out/view-%04u.png", shots++);
+            cli_make_parent_dirs(shot);
+            screenshot = shot;
+            printf("screenshot %s\n", shot);
+            fflush(stdout);
+        }
+        st->screenshot_key = false;
+        int fw, fh;
+        glfwGetFramebufferSize(st->window, &fw, &fh);
+        viewer_frame_desc d = {
+            .cam = st->cam,
+            .time = anim,
+            .exposure = st->exposure,
+            .nearest = st->nearest,
+            .width = (uint32_t)fw,
+            .height = (uint32_t)fh,
+            .screenshot = screenshot,
+        };
+        if ((s = viewer_frame(vw, sch, &d, err)))
+            return s;
+        if (st->exposure <= 0) {
+            viewer_stats vs;
+            viewer_get_stats(vw, &vs);
+            st->exposure = vs.exposure; /* measured: + and - scale it from here */
+        }
+        if (now - last_title > 0.5) {
+            update_title(st, name, sch, vw);
+            last_title = now;
+        }
+        if (last_frame)
+            break;
+    }
+    return s;
+}
+
+int cmd_view(int argc, char **argv)
+{
+    view_opts o = {0};
+    int rc = parse(argc, argv, &o);
+    if (rc)
+        return rc < 0 ? 0 : rc;
+    xrad_error err = {0};
+    xrad_scene *scene = NULL, *display_scene = NULL;
+    if (xrad_scene_load(o.scene, &scene, &err) || xrad_scene_load(o.scene, &display_scene, &err))
+        return cli_report(&err);
+
+    glfwSetErrorCallback(on_glfw_error);
+    if (!glfwInit()) {
+        fprintf(stderr,
+                "xrad view: no display: %s. Set DISPLAY (X11) or WAYLAND_DISPLAY, or run "
+                "under Xvfb (xvfb-run xrad view ...)\n",
+                glfw_message[0] ? glfw_message : "glfwInit failed");
+        xrad_scene_destroy(&scene);
+        xrad_scene_destroy(&display_scene);
+        return 2;
+    }
+    rc = 2;
+    xrad_context *ctx = NULL;
+    GLFWwindow *window = NULL;
+    VkSurfaceKHR win_surface = VK_NULL_HANDLE;
+    scheduler *sch = NULL;
+    viewer *vw = NULL;
+    uint32_t ext_count = 0;
+    const char **exts = glfwVulkanSupported() ? glfwGetRequiredInstanceExtensions(&ext_count)
+                                              : NULL;
+    if (!exts) {
+        fprintf(stderr, "xrad view: no Vulkan presentation on this display: %s\n",
+                glfw_message[0] ? glfw_message : "GLFW finds no Vulkan loader or surface");
+        goto done;
+    }
+    xrad_context_desc cd = {
+        .device = o.device,
+        .instance_extensions = exts,
+        .instance_extension_count = ext_count,
+        .present = 1,
+    };
+    if (xrad_context_create(&cd, &ctx, &err)) {
+        rc = cli_report(&err);
+        goto done;
+    }
+    uint32_t w = o.width, h = o.height;
+    if (!w && !h) {
+        w = display_scene->cam.width ? display_scene->cam.width : 960;
+        h = display_scene->cam.height ? display_scene->cam.height : 720;
+    } else if (!h) {
+        h = w * 3 / 4;
+    } else if (!w) {
+        w = h * 4 / 3;
+    }
+    glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
+    window = glfwCreateWindow((int)w, (int)h, "xrad view", NULL, NULL);
+    if (!window) {
+        fprintf(stderr, "xrad view: cannot open a window: %s\n", glfw_message);
+        goto done;
+    }
+    VkResult vr = glfwCreateWindowSurface(ctx->instance, window, NULL, &win_surface);
+    if (vr != VK_SUCCESS) {
+        fprintf(stderr, "xrad view: cannot make a Vulkan surface for the window: %s (%d)\n",
+                glfw_message, (int)vr);
+        goto done;
+    }
+    view_state st = {
+        .window = window,
+        .scene = display_scene,
+        .home = display_scene->cam,
+        .cam = display_scene->cam,
+        .exposure = o.exposure,
+        .nearest = o.nearest,
+        .method = o.solver.method,
+        .grabbed = -1,
+    };
+    vec3 lo, hi;
+    scene_bounds(display_scene, o.time, &lo, &hi);
+    st.diameter = v3_len(v3_sub(hi, lo));
+    st.move_speed = isfinite(st.diameter) && st.diameter > 0 ? 0.25 * st.diameter : 1.0;
+    glfwSetWindowUserPointer(window, &st);
+    glfwSetKeyCallback(window, on_key);
+    glfwSetCharCallback(window, on_char);
+    glfwSetMouseButtonCallback(window, on_button);
+    glfwSetCursorPosCallback(window, on_cursor);
+    glfwSetScrollCallback(window, on_scroll);
+
+    int fw, fh;
+    glfwGetFramebufferSize(window, &fw, &fh);
+    viewer_desc vd = {.surface = win_surface, .width = (uint32_t)fw, .height = (uint32_t)fh,
+                      .vsync = !o.no_vsync};
+    scheduler_desc sd = {.solver = o.solver};
+    sd.solver.time = o.time;
+    xrad_status s = viewer_create(ctx, display_scene, &vd, &vw, &err);
+    if (!s && !(s = scheduler_create(ctx, scene, &sd, &sch, &err)))
+        scene = NULL; /* the scheduler's now */
+    if (!s) {
+        if (!o.frames)
+            printf("xrad view: %s on %s; press ? or F1 for the keys\n", o.scene,
+                   xrad_context_device_name(ctx));
+        s = run(&o, &st, sch, vw, &err);
+    }
+    if (sch && vw)
+        print_summary(sch, vw);
+    if (s) {
+        rc = cli_report(&err);
+    } else {
+        rc = 0;
+        if (o.screenshot)
+            printf("screenshot: %s\n", o.screenshot);
+    }
+    scheduler_destroy(&sch);
+    viewer_destroy(&vw);
+    if (ctx && xrad_context_validation_messages(ctx)) {
+        fprintf(stderr, "xrad view: %u validation messages\n",
+                xrad_context_validation_messages(ctx));
+        rc = rc ? rc : 2;
+    }
+
+done:
+    if (win_surface)
+        vkDestroySurfaceKHR(ctx->instance, win_surface, NULL);
+    if (window)
+        glfwDestroyWindow(window);
+    xrad_context_destroy(&ctx);
+    glfwTerminate();
+    xrad_scene_destroy(&scene);
+    xrad_scene_destroy(&display_scene);
+    return rc;
+}
