@@ -84,7 +84,12 @@ expect 0 "render tiny png" -- "$xrad" render "$tmp/tiny.json" --png "$tmp/tiny.p
 [ -s "$tmp/tiny.png" ] || { fails=$((fails + 1)); echo "FAIL: no PNG written"; }
 expect 0 "compare identical" -- "$xrad" compare "$tmp/tiny.exr" "$tmp/tiny2.exr"
 expect_text "$tmp/out" "^nrmse 0.0000000$" "identical renders have NRMSE 0"
-expect 1 "compare non-EXR" -- "$xrad" compare "$tmp/tiny.png" "$tmp/tiny.exr"
+expect 1 "compare a non-image" -- "$xrad" compare "$tmp/tiny.json" "$tmp/tiny.exr"
+cp "$tmp/tiny.json" "$tmp/fake.png"
+expect 1 "compare a non-PNG named .png" -- "$xrad" compare "$tmp/fake.png" "$tmp/tiny.png"
+expect_text "$tmp/err" "fake.png" "the unreadable PNG is named"
+expect 0 "compare PNGs" -- "$xrad" compare "$tmp/tiny.png" "$tmp/tiny.png"
+expect_text "$tmp/out" "^nrmse 0.0000000$" "a PNG against itself has NRMSE 0"
 
 # frames: the last of --frames N at --fps F is the render at time N / F
 expect 0 "frames" -- "$xrad" render "$tmp/tiny.json" --method progressive --frames 3 --fps 6 --frame-out "$tmp/frames" --exr "$tmp/last.exr" --quiet
