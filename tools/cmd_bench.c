@@ -1,6 +1,7 @@
 /* xrad bench: per scene and method, frame time, per-pass GPU time, work
  * counters and NRMSE against a reference image (thesis tables 5.1 and 5.2). */
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -19,7 +20,8 @@ static void help(void)
            "iterations for incremental and cross. Prints the median frame time, GPU time per\n"
            "pass (timestamp queries), hemicubes, shots, host waits per frame, and NRMSE of\n"
            "the last frame's camera image against a reference image at that pose; then the\n"
-           "frame-time ratios progressive/cross and incremental/cross.\n\n"
+           "frame-time ratios progressive/cross and incremental/cross. The JSON also has\n"
+           "every frame's time, the 95th percentile (nearest rank) and each pass's median.\n\n"
            "  --methods LIST     comma-separated: %s [gather,progressive]\n"
            "  --json FILE        also write the rows and ratios as JSON\n"
            "  --repeat N         timed frames per scene and method; the median is reported [3]\n"
@@ -72,6 +74,54 @@ static int cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
+}
+
+/* Sorts v[n] and returns its median (the upper one for even n). */
+static double median(double *v, uint32_t n)
+{
+    qsort(v, n, sizeof(double), cmp_double);
+    return v[n / 2];
+}
+
+/* Nearest-rank percentile q (0..1] of sorted v[n]. */
+static double percentile(const double *v, uint32_t n, double q)
+{
+    uint32_t k = (uint32_t)ceil(q * n);
+    return v[k ? k - 1 : 0];
+}
+
+/* Per-pass GPU ms of each timed frame: the passes' names as they first
+ * appear, their times by frame (0 in a frame without the pass). */
+typedef struct pass_frames {
+    char names[XRAD_MAX_PASSES][48];
+    uint32_t count;
+    double *ms[XRAD_MAX_PASSES]; /* [repeat] each */
+} pass_frames;
+
+static bool pass_frames_add(pass_frames *pf, const xrad_solver_stats *st, uint32_t frame,
+                            uint32_t repeat)
+{
+    for (uint32_t i = 0; i < st->pass_count; i++) {
+        uint32_t k = 0;
+        while (k < pf->count && strcmp(pf->names[k], st->passes[i].name))
+            k++;
+        if (k == pf->count) {
+            if (k == XRAD_MAX_PASSES)
+                continue;
+            snprintf(pf->names[k], sizeof(pf->names[k]), "%s", st->passes[i].name);
+            if (!(pf->ms[k] = calloc(repeat, sizeof(double))))
+                return false;
+            pf->count++;
+        }
+        pf->ms[k][frame] = st->passes[i].ms;
+    }
+    return true;
+}
+
+static void pass_frames_free(pass_frames *pf)
+{
+    for (uint32_t k = 0; k < pf->count; k++)
+        free(pf->ms[k]);
 }
 
 /* The reference image for a scene at scene time t: from the cache, or made
@@ -208,6 +258,9 @@ static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_sce
     if (st)
         return st;
     double *wall = calloc(o->repeat, sizeof(double)), *gpu = calloc(o->repeat, sizeof(double));
+    /* Work per timed frame: hemicubes, host waits, submissions. */
+    double work[3] = {0, 0, 0};
+    pass_frames pf = {0};
     method_result r = {0};
     float *img = NULL;
     uint32_t w = 0, h = 0;
@@ -230,25 +283,38 @@ static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_sce
         st = method_frame(&run, t, &atlas, &r, err);
         wall[k] = r.wall_ms;
         gpu[k] = r.gpu ? r.stats.gpu_ms : r.wall_ms;
+        if (!st && r.gpu) {
+            work[0] += r.stats.hemicubes;
+            work[1] += r.stats.host_waits;
+            work[2] += r.stats.submissions;
+            if (!pass_frames_add(&pf, &r.stats, k, o->repeat))
+                st = cli_fail(err, XRAD_ERROR_SYSTEM, "bench: out of memory");
+        }
     }
     if (st)
         goto done;
     xrad_view_desc view = {.width = rw, .height = rh, .time = t};
     if ((st = xrad_render_view(ctx, scene, &atlas, &view, &img, &w, &h, err)))
         goto done;
-    qsort(wall, o->repeat, sizeof(double), cmp_double);
-    qsort(gpu, o->repeat, sizeof(double), cmp_double);
-    double nrmse = xrad_image_nrmse(img, ref, w, h);
-
     cJSON *row = cJSON_CreateObject();
     cJSON_AddStringToObject(row, "scene", path);
     cJSON_AddStringToObject(row, "method", method);
-    cJSON_AddNumberToObject(row, "frame_ms", wall[o->repeat / 2]);
+    cJSON *frames = cJSON_AddArrayToObject(row, "frames_ms");
+    for (uint32_t k = 0; k < o->repeat; k++)
+        cJSON_AddItemToArray(frames, cJSON_CreateNumber(wall[k]));
+    double frame_median = median(wall, o->repeat), gpu_median = median(gpu, o->repeat);
+    double nrmse = xrad_image_nrmse(img, ref, w, h);
+    cJSON_AddNumberToObject(row, "frame_ms", frame_median);
+    cJSON_AddNumberToObject(row, "frame_ms_p95", percentile(wall, o->repeat, 0.95));
     cJSON_AddNumberToObject(row, "redistribute_ms", r.gpu ? r.stats.redistribute_ms : 0);
-    cJSON_AddNumberToObject(row, "gpu_ms", gpu[o->repeat / 2]);
+    cJSON_AddNumberToObject(row, "gpu_ms", gpu_median);
+    /* Median GPU ms per frame of each pass. */
     cJSON *passes = cJSON_AddObjectToObject(row, "passes");
-    for (uint32_t i = 0; r.gpu && i < r.stats.pass_count; i++)
-        cJSON_AddNumberToObject(passes, r.stats.passes[i].name, r.stats.passes[i].ms);
+    for (uint32_t k = 0; k < pf.count; k++)
+        cJSON_AddNumberToObject(passes, pf.names[k], median(pf.ms[k], o->repeat));
+    cJSON_AddNumberToObject(row, "hemicubes_per_frame", work[0] / o->repeat);
+    cJSON_AddNumberToObject(row, "host_waits_per_frame", work[1] / o->repeat);
+    cJSON_AddNumberToObject(row, "submissions_per_frame", work[2] / o->repeat);
     cJSON_AddNumberToObject(row, "hemicubes", r.gpu ? r.stats.hemicubes : 0);
     cJSON_AddNumberToObject(row, "shots", r.gpu ? r.stats.shots : 0);
     cJSON_AddNumberToObject(row, "iterations", r.gpu ? r.stats.iterations : r.ref.sweeps);
@@ -262,15 +328,16 @@ static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_sce
     cJSON_AddNumberToObject(row, "repeat", o->repeat);
     cJSON_AddNumberToObject(row, "time", t);
     cJSON_AddItemToArray(rows, row);
-    *frame_ms = wall[o->repeat / 2];
+    *frame_ms = frame_median;
 
-    printf("%-28s %-12s %12.1f %12.1f %10u %8u %7u %10.5f\n", path, method, wall[o->repeat / 2],
-           gpu[o->repeat / 2], r.gpu ? r.stats.hemicubes : 0, r.gpu ? r.stats.shots : 0,
-           r.gpu ? r.stats.host_waits : 0, nrmse);
-    for (uint32_t i = 0; r.gpu && i < r.stats.pass_count; i++)
-        printf("%-28s   %-20s %10.2f ms\n", "", r.stats.passes[i].name, r.stats.passes[i].ms);
+    printf("%-28s %-12s %12.1f %12.1f %12.1f %10.1f %8u %7.1f %10.5f\n", path, method,
+           frame_median, percentile(wall, o->repeat, 0.95), gpu_median, work[0] / o->repeat,
+           r.gpu ? r.stats.shots : 0, work[1] / o->repeat, nrmse);
+    for (uint32_t k = 0; k < pf.count; k++)
+        printf("%-28s   %-20s %10.2f ms\n", "", pf.names[k], median(pf.ms[k], o->repeat));
     fflush(stdout);
 done:
+    pass_frames_free(&pf);
     method_close(&run);
     free(img);
     free(wall);
@@ -293,8 +360,8 @@ int cmd_bench(int argc, char **argv)
     cJSON *rows = cJSON_AddArrayToObject(out, "rows");
     cJSON *ratios = cJSON_AddArrayToObject(out, "ratios");
     printf("device: %s\n", xrad_context_device_name(ctx));
-    printf("%-28s %-12s %12s %12s %10s %8s %7s %10s\n", "scene", "method", "frame_ms",
-           "gpu_ms", "hemicubes", "shots", "waits", "nrmse");
+    printf("%-28s %-12s %12s %12s %12s %10s %8s %7s %10s\n", "scene", "method", "frame_ms",
+           "p95_ms", "gpu_ms", "hemicubes", "shots", "waits", "nrmse");
     xrad_status st = XRAD_OK;
     for (int i = 0; i < o.scene_count && !st; i++) {
         const char *path = o.scenes[i];
