@@ -115,11 +115,13 @@ static xrad_status publish(scheduler *s, double time, uint64_t serial, xrad_erro
     t->method = s->desc.method;
     t->busy = false;
     t->last = ss;
-    t->redistribute_last_ms = ss.wall_ms;
+    t->frame_last_ms = ss.wall_ms;
     for (uint32_t i = 0; i < ss.pass_count; i++)
         sliding_table_add(&t->passes, ss.passes[i].name, ss.passes[i].ms);
-    sliding_table_add(&t->passes, "(redistribution wall)", ss.wall_ms);
-    t->redistribute_ms = sliding_mean(&t->passes.series[t->passes.count - 1]);
+    sliding_add(&t->frame_window, ss.wall_ms);
+    sliding_add(&t->redistribute_window, ss.redistribute_ms);
+    t->frame_ms = sliding_mean(&t->frame_window);
+    t->redistribute_ms = sliding_mean(&t->redistribute_window);
     pthread_cond_broadcast(&s->published);
     pthread_mutex_unlock(&s->lock);
     return XRAD_OK;

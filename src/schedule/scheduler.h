@@ -70,8 +70,13 @@ typedef struct scheduler_stats {
     double time;              /* s, scene time of the newest publication */
     xrad_method method;       /* of the newest publication */
     bool busy;                /* the worker is redistributing */
-    double redistribute_ms;   /* sliding mean of the worker's host time per publication */
-    double redistribute_last_ms;
+    /* Sliding means over publications of the worker's host time: a whole
+     * frame (the redistribution and its progressive iterations, or a
+     * restart's solve), and the redistribution alone (solver stats'
+     * redistribute_ms; 0 for the restarting methods). */
+    double frame_ms, redistribute_ms;
+    double frame_last_ms;
+    sliding_window frame_window, redistribute_window;
     xrad_solver_stats last;   /* the solver's stats of the newest publication */
     sliding_table passes;     /* per-pass GPU ms of publications, sliding */
 } scheduler_stats;

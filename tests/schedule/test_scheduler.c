@@ -169,7 +169,7 @@ static void test_loop(xrad_context *ctx)
             "redistribution %.1f ms (mean), longest display frame %.1f ms, at most %u frames "
             "per publication\n",
             frames, frames_shown, swaps, (unsigned long long)stats.published,
-            stats.redistribute_ms, max_frame_ms, max_in_interval);
+            stats.frame_ms, max_frame_ms, max_in_interval);
     CHECK(unstable == 0, "the front atlas changed in %u frames without a swap", unstable);
     CHECK(last_time == 1.0, "the last request (t = 1 s) was never shown (last %g)", last_time);
     CHECK(swaps >= 3, "only %u swaps", swaps);
