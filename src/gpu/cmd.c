@@ -32,6 +32,12 @@ xrad_status gpu_cmd_begin(struct xrad_context *ctx, gpu_cmd *c, xrad_error *err)
     };
     if ((s = VK_CHECK(ctx, err, vkBeginCommandBuffer(c->cmd, &begin))))
         goto fail;
+    /* Memory this recording uses may have belonged to a freed resource
+     * that earlier submissions wrote (suballocation, gpu/memory.h): order
+     * it after them. */
+    gpu_memory_barrier(c->cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                       VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                       VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
     return XRAD_OK;
 
 fail:

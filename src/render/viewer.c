@@ -237,6 +237,12 @@ static xrad_status record(viewer *v, viewer_slot *sl, uint32_t image, const sche
         (s = VK_CHECK(ctx, err, vkBeginCommandBuffer(sl->cmd, &begin))))
         return s;
     VkCommandBuffer cmd = sl->cmd;
+    /* This slot's geometry and readback may sit in memory that a freed
+     * resource of earlier submissions (another thread's) wrote. */
+    gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT, VK_ACCESS_MEMORY_WRITE_BIT,
+                       VK_PIPELINE_STAGE_VERTEX_INPUT_BIT | VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_ACCESS_VERTEX_ATTRIBUTE_READ_BIT | VK_ACCESS_INDEX_READ_BIT |
+                           VK_ACCESS_TRANSFER_WRITE_BIT);
     gpu_timer_start(sl->timer, cmd);
     display_draw draw = {
         .vertices = &sl->vertices,

@@ -7,6 +7,7 @@
  *     completing while the worker redistributes, several per publication;
  *   - a request's offsets move the object: the published solution matches
  *     a fresh progressive solve with the same offset;
+ *   - a request's method switch solves anew with that method;
  *   - the worker's failure reaches the display as an error, not a hang. */
 #include <time.h>
 
@@ -208,6 +209,22 @@ static void test_loop(xrad_context *ctx)
         double e = xrad_image_nrmse(texels, fresh.rgba, aw, ah);
         fprintf(stderr, "offset: published vs fresh progressive NRMSE %.5f\n", e);
         CHECK(e >= 0 && e < 0.02, "published solution with the offset: NRMSE %g vs fresh", e);
+    }
+
+    /* A method switch: the worker solves anew with progressive, which is
+     * then exactly the fresh solve above (same settings, same pose). */
+    scheduler_request restart = moved;
+    restart.method = XRAD_METHOD_PROGRESSIVE;
+    scheduler_request_frame(sch, &restart);
+    st = scheduler_wait_published(sch, requests + 2, &err);
+    for (int i = 0; i < 2 && !st; i++)
+        st = display_frame(ctx, sch, &readback, &f, texels, bytes, &sum, &err);
+    scheduler_get_stats(sch, &stats);
+    CHECK(st == XRAD_OK && stats.method == XRAD_METHOD_PROGRESSIVE,
+          "method switch: %s (method %d)", err.message, (int)stats.method);
+    if (!st && fresh.rgba) {
+        double e = xrad_image_nrmse(texels, fresh.rgba, aw, ah);
+        CHECK(e >= 0 && e < 1e-6, "after the switch to progressive: NRMSE %g vs fresh", e);
     }
     xrad_solver_destroy(&solver);
     xrad_atlas_destroy(&fresh);
