@@ -46,9 +46,22 @@ typedef struct xrad_scene xrad_scene;
  * On success *out owns the scene; release it with xrad_scene_destroy. */
 xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err);
 
+typedef struct xrad_scene_load_desc {
+    /* Every element density in the file times this; 0: the file's own
+     * quality.density_scale, else 1. */
+    double density_scale;
+} xrad_scene_load_desc;
+
+/* xrad_scene_load with options; desc may be NULL. */
+xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *desc,
+                                 xrad_scene **out, xrad_error *err);
+
 /* Same, from JSON text in memory; `name` stands for the file in messages. */
 xrad_status xrad_scene_parse(const char *json, size_t len, const char *name,
                              xrad_scene **out, xrad_error *err);
+xrad_status xrad_scene_parse_with(const char *json, size_t len, const char *name,
+                                  const xrad_scene_load_desc *desc, xrad_scene **out,
+                                  xrad_error *err);
 
 /* Accepts NULL and *scene == NULL; sets *scene to NULL. */
 void xrad_scene_destroy(xrad_scene **scene);
@@ -233,7 +246,84 @@ typedef struct xrad_solver_desc {
      * own too, so that other work on the queue (a display thread's frames,
      * xrad view) gets in between. Default 0: one submission. */
     uint32_t slice_elements;
+    /* Visibility of a receiver in a shooter's ID hemicube: XRAD_ID_CHECK_*;
+     * default 0 = NEIGHBOURS. */
+    uint32_t id_check;
+    /* Texel format of radiosity hemicubes (gather; cross's gather and back
+     * hemicubes): XRAD_RADIOSITY_*; default 0 = FP16. */
+    uint32_t radiosity_format;
 } xrad_solver_desc;
+
+enum {
+    /* The element's ID in the texel it projects to or one of the 8 around
+     * it (thesis 4.3.3: no holes from sampling, shadows about a texel
+     * smaller). */
+    XRAD_ID_CHECK_NEIGHBOURS = 1,
+    /* The projected texel only: sharper shadows, holes where an element is
+     * thinner than a texel. */
+    XRAD_ID_CHECK_EXACT = 2,
+};
+
+enum {
+    XRAD_RADIOSITY_FP16 = 1, /* RGBA16F: half the memory and bandwidth, 11-bit mantissa */
+    XRAD_RADIOSITY_FP32 = 2, /* RGBA32F */
+};
+
+/* ---------------------------------------------------------------- quality */
+
+/* Everything that trades speed for accuracy: the solver's settings and the
+ * element density the scene is built with. Zero means default in every
+ * field. Each setting has a name (the scene file's "quality" key; on the
+ * command line with dashes: --hemicube-res), a default and a range
+ * (xrad_setting_info; README "Quality"). */
+typedef struct xrad_quality {
+    xrad_solver_desc solver;
+    /* Every element density of the scene file (scene, object, surface and
+     * cross densities) times this, at load (xrad_scene_load_with);
+     * default 1. */
+    double density_scale;
+} xrad_quality;
+
+typedef enum xrad_setting_kind {
+    XRAD_SETTING_INTEGER,
+    XRAD_SETTING_REAL,
+    XRAD_SETTING_CHOICE, /* one of `choices`, stored as its 1-based position */
+} xrad_setting_kind;
+
+typedef struct xrad_setting_info {
+    const char *name;
+    const char *description;
+    xrad_setting_kind kind;
+    double def, min, max; /* default and range (CHOICE: positions) */
+    const char *choices;  /* CHOICE: "neighbours|exact"; else NULL */
+} xrad_setting_info;
+
+/* The settings, in a fixed order; NULL past the last. */
+const xrad_setting_info *xrad_setting_get(uint32_t index);
+uint32_t xrad_setting_count(void);
+
+/* Sets setting `name` from text ("128", "1e-3", "exact"). XRAD_ERROR_INPUT
+ * naming the setting for an unknown name or a value out of its range. */
+xrad_status xrad_quality_set(xrad_quality *q, const char *name, const char *value,
+                             xrad_error *err);
+
+/* The setting's value as text, defaults filled in ("64", "neighbours"). */
+xrad_status xrad_quality_format(const xrad_quality *q, const char *name, char *buf, size_t size,
+                                xrad_error *err);
+
+/* Overwrites every setting with preset `name`: "draft", "interactive",
+ * "high" or "reference" (README "Quality" lists their values). */
+xrad_status xrad_quality_preset(xrad_quality *q, const char *name, xrad_error *err);
+
+/* "draft, interactive, high, reference" */
+const char *xrad_quality_preset_list(void);
+
+/* Fills the defaults and checks every range, as xrad_solver_create does. */
+xrad_status xrad_quality_resolve(xrad_quality *q, xrad_error *err);
+
+/* The scene file's "quality" object (its preset, then its settings),
+ * applied over q. */
+void xrad_scene_get_quality(const xrad_scene *scene, xrad_quality *q);
 
 #define XRAD_MAX_PASSES 16
 

@@ -211,7 +211,7 @@ void main()
             if (frame(pc.new_slot, CROSS_FRAMES_FRONT, p).surface == se)
                 continue;
             if (patch_facing(pc.new_slot, p, x, ne, d, cosines, local) &&
-                shooting_visible(ids_new, pc.hemicube_res, true, local, p, id))
+                shooting_visible(ids_new, pc.hemicube_res, pc.neighbours != 0u, local, p, id))
                 gathered += patch_form_factor(pc.new_slot, p, x, ne, d, cosines) *
                             values[p].total.rgb;
             continue;
@@ -222,13 +222,13 @@ void main()
             if (o.w > 0.0)
                 gathered += o.w * (o.xyz - values[p].shot.rgb);
         } else if (patch_facing(pc.old_slot, p, x, ne, d, cosines, local) &&
-                   shooting_visible(ids_old, pc.hemicube_res, true, local, p, id)) {
+                   shooting_visible(ids_old, pc.hemicube_res, pc.neighbours != 0u, local, p, id)) {
             float f_old = patch_form_factor(pc.old_slot, p, x, ne, d, cosines);
             gathered += f_old * (back_old_projected(pc.old_slot, p, x, ne) - values[p].shot.rgb);
         }
         vec4 kept = vec4(0.0);
         if (patch_facing(pc.new_slot, p, x, ne, d, cosines, local) &&
-            shooting_visible(ids_new, pc.hemicube_res, true, local, p, id)) {
+            shooting_visible(ids_new, pc.hemicube_res, pc.neighbours != 0u, local, p, id)) {
             float f_new = patch_form_factor(pc.new_slot, p, x, ne, d, cosines);
             vec3 projected = back_new_projected(pc.new_slot, p, x, ne);
             gathered += f_new * (values[p].total.rgb - projected);

@@ -118,7 +118,8 @@ struct cross_reconstruct_push {
     uint pairs;            /* CROSS_PAIRS_* */
     uint first;            /* elements [first, first + count) of this dispatch */
     uint count;
-    uint pad0, pad1;
+    uint neighbours;       /* 1: nearest-texel visibility check (thesis 4.3.3) */
+    uint pad0;
 };
 
 #endif

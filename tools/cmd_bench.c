@@ -32,11 +32,11 @@ static void help(void)
            "  --max-reference-elements N  above this element count the reference is a\n"
            "                     high-quality GPU gather (hemicube 128, 4x MSAA, threshold\n"
            "                     1e-5) instead of the CPU solver [12000]\n"
-           METHOD_SOLVER_OPTIONS_HELP
-           "  --device NAME      Vulkan device\n\n"
-           "Reference images are cached in the cache directory under a name that hashes the\n"
-           "scene file, the reference settings, the image size and the pose's time.\n",
+           "  --device NAME      Vulkan device\n",
            method_list());
+    method_print_options();
+    printf("\nReference images are cached in the cache directory under a name that hashes the\n"
+           "scene file, the reference settings, the image size and the pose's time.\n");
 }
 
 typedef struct bench_opts {
@@ -222,7 +222,7 @@ static int parse(int argc, char **argv, bench_opts *o)
             cli_double(&a, -1e6, 1e6, &o->time);
         } else if (!strcmp(opt, "fps")) {
             cli_double(&a, 1e-3, 1e6, &o->fps);
-        } else if (method_solver_option(&a, opt, &o->m.solver)) {
+        } else if (method_solver_option(&a, opt, &o->m)) {
             continue;
         } else if (!strcmp(opt, "device")) {
             o->device = cli_value(&a);
@@ -366,7 +366,7 @@ int cmd_bench(int argc, char **argv)
     for (int i = 0; i < o.scene_count && !st; i++) {
         const char *path = o.scenes[i];
         xrad_scene *scene = NULL;
-        if ((st = xrad_scene_load(path, &scene, &err)))
+        if ((st = method_load_scene(path, &o.m, &scene, &err)))
             break;
         float *ref = NULL;
         uint32_t rw = 0, rh = 0;

@@ -33,10 +33,10 @@ static void help(void)
            "  --rays N          reference: visibility rays per element pair [16]\n"
            "  --residual R      reference: Gauss-Seidel stop, max|dB|/max B per sweep [1e-6]\n"
            "  --threads N       reference: worker threads [online cores]\n"
-           METHOD_SOLVER_OPTIONS_HELP
            "  --device NAME     Vulkan device (substring; see xrad devices)\n"
-           "  --quiet           no progress on stderr\n\n"
-           "The EXR holds the radiosity B (W/m^2) of the surface seen in each pixel.\n");
+           "  --quiet           no progress on stderr\n");
+    method_print_options();
+    printf("\nThe EXR holds the radiosity B (W/m^2) of the surface seen in each pixel.\n");
 }
 
 typedef struct render_opts {
@@ -105,7 +105,7 @@ static int parse(int argc, char **argv, render_opts *o)
             cli_double(&a, 1e-15, 1, &o->m.reference.residual);
         } else if (!strcmp(opt, "threads")) {
             cli_uint(&a, 1, 1024, &o->m.reference.threads);
-        } else if (method_solver_option(&a, opt, &o->m.solver)) {
+        } else if (method_solver_option(&a, opt, &o->m)) {
             continue;
         } else if (!strcmp(opt, "device")) {
             o->device = cli_value(&a);
@@ -149,7 +149,7 @@ int cmd_render(int argc, char **argv)
     float *image = NULL;
     method_run_state run = {0};
     double t0 = cli_now();
-    if (xrad_scene_load(o.scene, &scene, &err))
+    if (method_load_scene(o.scene, &o.m, &scene, &err))
         return cli_report(&err);
     xrad_scene_info info;
     xrad_scene_get_info(scene, &info);

@@ -41,10 +41,10 @@ static void help(void)
            "                    once its redistribution is complete, then exit\n"
            "  --resize-at N     (tests) resize the window at frame N to --resize-to\n"
            "  --resize-to WxH   [half the window]\n"
-           METHOD_SOLVER_OPTIONS_HELP
-           "                    (view's defaults: --slice 512 --batch 4, so that display\n"
-           "                    frames get in between redistribution submissions)\n"
-           "  --device NAME     Vulkan device (substring; see xrad devices)\n\n"
+           "  --device NAME     Vulkan device (substring; see xrad devices)\n");
+    method_print_options();
+    printf("  (view's defaults: --slice 512 --batch 4, so that display frames get in\n"
+           "  between redistribution submissions)\n\n"
            "Press ? or F1 in the window for the keys. Exit status 2 when there is no\n"
            "display or the device cannot present to it.\n");
 }
@@ -74,7 +74,7 @@ typedef struct view_opts {
     double time, fps, speed, exposure;
     uint32_t width, height, frames, resize_at, resize_w, resize_h;
     int nearest, no_vsync;
-    xrad_solver_desc solver;
+    method_settings m;
 } view_opts;
 
 static int parse(int argc, char **argv, view_opts *o)
@@ -87,8 +87,10 @@ static int parse(int argc, char **argv, view_opts *o)
     o->speed = 1;
     /* Redistribution in slices and small progressive batches: on a device
      * with one queue (lavapipe) display frames get in between them. */
-    o->solver.slice_elements = 512;
-    o->solver.batch = 4;
+    o->m.solver.slice_elements = 512;
+    o->m.override_name[0] = "batch";
+    o->m.override_value[0] = "4";
+    o->m.override_count = 1;
     while ((opt = cli_next(&a)) && !a.failed) {
         if (cli_is_help(opt)) {
             help();
@@ -123,7 +125,7 @@ static int parse(int argc, char **argv, view_opts *o)
             o->no_vsync = 1;
         } else if (!strcmp(opt, "device")) {
             o->device = cli_value(&a);
-        } else if (!method_solver_option(&a, opt, &o->solver)) {
+        } else if (!method_solver_option(&a, opt, &o->m)) {
             cli_unknown(&a, opt);
         }
     }
@@ -136,7 +138,7 @@ static int parse(int argc, char **argv, view_opts *o)
     if (m != XRAD_METHOD_PROGRESSIVE && m != XRAD_METHOD_INCREMENTAL && m != XRAD_METHOD_CROSS)
         return cli_usage_error("view", "--method: '%s' is not progressive, incremental or cross",
                                o->method);
-    o->solver.method = m;
+    o->m.solver.method = m;
     if (o->screenshot && !o->frames)
         return cli_usage_error("view", "--screenshot needs --frames N");
     if (o->screenshot && !cli_has_ext(o->screenshot, ".png") &&
@@ -476,7 +478,8 @@ int cmd_view(int argc, char **argv)
         return rc < 0 ? 0 : rc;
     xrad_error err = {0};
     xrad_scene *scene = NULL, *display_scene = NULL;
-    if (xrad_scene_load(o.scene, &scene, &err) || xrad_scene_load(o.scene, &display_scene, &err))
+    if (method_load_scene(o.scene, &o.m, &scene, &err) ||
+        method_load_scene(o.scene, &o.m, &display_scene, &err))
         return cli_report(&err);
 
     glfwSetErrorCallback(on_glfw_error);
@@ -542,7 +545,7 @@ int cmd_view(int argc, char **argv)
         .cam = display_scene->cam,
         .exposure = o.exposure,
         .nearest = o.nearest,
-        .method = o.solver.method,
+        .method = o.m.solver.method,
         .grabbed = -1,
     };
     vec3 lo, hi;
@@ -560,7 +563,7 @@ int cmd_view(int argc, char **argv)
     glfwGetFramebufferSize(window, &fw, &fh);
     viewer_desc vd = {.surface = win_surface, .width = (uint32_t)fw, .height = (uint32_t)fh,
                       .vsync = !o.no_vsync};
-    scheduler_desc sd = {.solver = o.solver};
+    scheduler_desc sd = {.solver = o.m.solver};
     sd.solver.time = o.time;
     xrad_status s = viewer_create(ctx, display_scene, &vd, &vw, &err);
     if (!s && !(s = scheduler_create(ctx, scene, &sd, &sch, &err)))

@@ -73,39 +73,159 @@ xrad_status method_run(xrad_context *ctx, const xrad_scene *scene, const char *n
     return st;
 }
 
-int method_solver_option(cli_args *a, const char *opt, xrad_solver_desc *d)
+/* `text` from column 24, wrapped before column 80. */
+static void print_wrapped(const char *text)
 {
-    if (!strcmp(opt, "hemicube-res"))
-        cli_uint(a, 8, 1024, &d->hemicube_res);
-    else if (!strcmp(opt, "msaa"))
-        cli_uint(a, 1, 4, &d->msaa);
-    else if (!strcmp(opt, "bounces"))
+    const int indent = 24, width = 79;
+    int col = indent;
+    while (*text) {
+        int word = (int)strcspn(text, " ");
+        if (col > indent && col + 1 + word > width) {
+            printf("\n%*s", indent, "");
+            col = indent;
+        } else if (col > indent) {
+            putchar(' ');
+            col++;
+        }
+        printf("%.*s", word, text);
+        col += word;
+        text += word;
+        text += strspn(text, " ");
+    }
+    putchar('\n');
+}
+
+void method_print_options(void)
+{
+    printf("  --preset NAME         quality preset: %s; the\n"
+           "                        scene file's \"quality\" applies first, these options\n"
+           "                        after (README \"Quality\")\n",
+           xrad_quality_preset_list());
+    for (uint32_t i = 0; i < xrad_setting_count(); i++) {
+        const xrad_setting_info *in = xrad_setting_get(i);
+        char opt[64], def[32], text[512];
+        snprintf(opt, sizeof(opt), "--%s %s", in->name,
+                 in->kind == XRAD_SETTING_CHOICE ? "C" : in->kind == XRAD_SETTING_REAL ? "X" : "N");
+        for (char *c = opt; *c && *c != ' '; c++)
+            *c = *c == '_' ? '-' : *c;
+        xrad_quality q = {0};
+        xrad_quality_format(&q, in->name, def, sizeof(def), NULL);
+        if (in->kind == XRAD_SETTING_CHOICE)
+            snprintf(text, sizeof(text), "%s: %s [%s]", in->description, in->choices, def);
+        else
+            snprintf(text, sizeof(text), "%s; %g .. %g [%s]", in->description, in->min,
+                     in->max, def);
+        printf("  %-21s ", opt);
+        print_wrapped(text);
+    }
+    printf("  --bounces N           gather: fixed bounce count [0 = until --threshold]\n"
+           "  --seed N              GPU: hemicube rotation seed [0]\n"
+           "  --back-nearest        cross: nearest back hemicube samples (default bilinear)\n"
+           "  --cross-recompute     cross: render the old pose's hemicubes again each frame\n"
+           "                        (thesis) instead of keeping the last frame's\n"
+           "  --slice N             cross: elements per submission of the cross projection\n"
+           "                        [0 = all]\n");
+}
+
+/* "hemicube-res" -> "hemicube_res" when that is a setting. */
+static const char *setting_name(const char *opt, char *buf, size_t n)
+{
+    snprintf(buf, n, "%s", opt);
+    for (char *c = buf; *c; c++)
+        *c = *c == '-' ? '_' : *c;
+    for (uint32_t i = 0; i < xrad_setting_count(); i++)
+        if (!strcmp(xrad_setting_get(i)->name, buf))
+            return buf;
+    return NULL;
+}
+
+int method_solver_option(cli_args *a, const char *opt, method_settings *m)
+{
+    xrad_solver_desc *d = &m->solver;
+    char name[48];
+    if (!strcmp(opt, "preset")) {
+        m->preset = cli_value(a);
+    } else if (setting_name(opt, name, sizeof(name))) {
+        const char *v = cli_value(a);
+        if (!v)
+            return 1;
+        if (m->override_count == METHOD_MAX_OVERRIDES) {
+            cli_usage_error(a->command, "more than %d quality options", METHOD_MAX_OVERRIDES);
+            a->failed = true;
+            return 1;
+        }
+        /* Checked here, so that a bad value is an argument error now. */
+        xrad_quality scratch = {0};
+        xrad_error err;
+        if (xrad_quality_set(&scratch, name, v, &err)) {
+            cli_usage_error(a->command, "--%s: %s", opt, err.message);
+            a->failed = true;
+            return 1;
+        }
+        uint32_t k = m->override_count++;
+        snprintf(m->override_names[k], sizeof(m->override_names[k]), "%s", name);
+        m->override_name[k] = m->override_names[k];
+        m->override_value[k] = v;
+    } else if (!strcmp(opt, "bounces")) {
         cli_uint(a, 0, 100000, &d->bounces);
-    else if (!strcmp(opt, "threshold"))
-        cli_double(a, 1e-12, 0.5, &d->threshold);
-    else if (!strcmp(opt, "batch"))
-        cli_uint(a, 1, 4096, &d->batch);
-    else if (!strcmp(opt, "max-patches"))
-        cli_uint(a, 1, 64, &d->max_patches);
-    else if (!strcmp(opt, "seed"))
+    } else if (!strcmp(opt, "seed")) {
         cli_uint(a, 0, UINT32_MAX, &d->seed);
-    else if (!strcmp(opt, "frame-shots"))
-        cli_uint(a, 0, 10000000, &d->frame_shots);
-    else if (!strcmp(opt, "cross-grid"))
-        cli_uint(a, 1, 16, &d->cross_grid);
-    else if (!strcmp(opt, "back-res"))
-        cli_uint(a, 8, 256, &d->back_res);
-    else if (!strcmp(opt, "back-msaa"))
-        cli_uint(a, 1, 4, &d->back_msaa);
-    else if (!strcmp(opt, "back-nearest"))
+    } else if (!strcmp(opt, "back-nearest")) {
         d->back_nearest = 1;
-    else if (!strcmp(opt, "cross-recompute"))
+    } else if (!strcmp(opt, "cross-recompute")) {
         d->cross_recompute = 1;
-    else if (!strcmp(opt, "slice"))
+    } else if (!strcmp(opt, "slice")) {
         cli_uint(a, 0, UINT32_MAX, &d->slice_elements);
-    else
+    } else {
         return 0;
+    }
     return 1;
+}
+
+/* The command line's quality over q: --preset, then the overrides. */
+static xrad_status command_line_quality(const method_settings *m, xrad_quality *q,
+                                        xrad_error *err)
+{
+    xrad_status st = m->preset ? xrad_quality_preset(q, m->preset, err) : XRAD_OK;
+    if (st) {
+        char msg[sizeof(err->message)];
+        snprintf(msg, sizeof(msg), "--preset: %s", err->message);
+        snprintf(err->message, sizeof(err->message), "%s", msg);
+    }
+    for (uint32_t k = 0; !st && k < m->override_count; k++)
+        st = xrad_quality_set(q, m->override_name[k], m->override_value[k], err);
+    return st;
+}
+
+xrad_status method_load_scene(const char *path, method_settings *m, xrad_scene **out,
+                              xrad_error *err)
+{
+    *out = NULL;
+    /* The density is the scene's at load: only the command line's is
+     * passed, the file's own quality.density_scale the parser applies. */
+    xrad_quality cli = {0};
+    xrad_status st = command_line_quality(m, &cli, err);
+    if (st)
+        return st;
+    xrad_scene_load_desc ld = {.density_scale = cli.density_scale};
+    if ((st = xrad_scene_load_with(path, &ld, out, err)))
+        return st;
+    xrad_quality q = {.solver = m->solver};
+    xrad_scene_get_quality(*out, &q);
+    if (!(st = command_line_quality(m, &q, err)) && !(st = xrad_quality_resolve(&q, err))) {
+        /* Only the quality fields come from q; the rest stays m's. */
+        xrad_quality into = {.solver = m->solver};
+        for (uint32_t i = 0; !st && i < xrad_setting_count(); i++) {
+            char v[64];
+            const char *name = xrad_setting_get(i)->name;
+            if (!(st = xrad_quality_format(&q, name, v, sizeof(v), err)))
+                st = xrad_quality_set(&into, name, v, err);
+        }
+        m->solver = into.solver;
+    }
+    if (st)
+        xrad_scene_destroy(out);
+    return st;
 }
 
 void method_print_passes(const method_result *r)

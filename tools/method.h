@@ -7,34 +7,34 @@
 #include "cli.h"
 #include "xrad.h"
 
-/* Help lines of the GPU solver options method_solver_option takes. */
-#define METHOD_SOLVER_OPTIONS_HELP                                                             \
-    "  --hemicube-res N  GPU: hemicube face resolution, even [64]\n"                            \
-    "  --msaa N          gather: radiosity hemicube samples, 1 or 4 [4]\n"                      \
-    "  --bounces N       gather: fixed bounce count [0 = until --threshold]\n"                  \
-    "  --threshold T     GPU: stop when unshot power / bounce change relative to the\n"         \
-    "                    emitted power falls below T [1e-4]\n"                                  \
-    "  --batch N         progressive: shots per submission (one host wait each) [32]\n"         \
-    "  --max-patches N   progressive: shooting patches per surface side [8]\n"                  \
-    "  --seed N          GPU: hemicube rotation seed [0]\n"                                     \
-    "  --frame-shots N   incremental, cross: progressive shots after each\n"                    \
-    "                    redistribution [0 = until --threshold]\n"                              \
-    "  --cross-grid N    cross: PROJECTEDRADIOSITY rays per patch side, 1..16 [4]\n"            \
-    "  --back-res N      cross: back hemicube face resolution, even [16]\n"                     \
-    "  --back-msaa N     cross: back hemicube samples, 1 or 4 [4]\n"                            \
-    "  --back-nearest    cross: nearest back hemicube samples (default bilinear)\n"             \
-    "  --cross-recompute cross: render all four hemicubes per patch each frame\n"               \
-    "                    (thesis) instead of keeping the last frame's\n"                       \
-    "  --slice N         cross: elements per submission of the cross projection [0 = all]\n"
-
-/* Takes `opt` (and its value) into `d` if it is one of the options above;
- * returns 0 when it is not. */
-int method_solver_option(cli_args *a, const char *opt, xrad_solver_desc *d);
+#define METHOD_MAX_OVERRIDES 32
 
 typedef struct method_settings {
     xrad_solver_desc solver;    /* GPU methods; method filled from the name */
     xrad_reference_desc reference;
+    /* Quality from the command line, applied over the scene file's own
+     * (method_load_scene): --preset, then each --SETTING VALUE in order. */
+    const char *preset;
+    uint32_t override_count;
+    const char *override_name[METHOD_MAX_OVERRIDES]; /* setting names (underscores) */
+    const char *override_value[METHOD_MAX_OVERRIDES];
+    char override_names[METHOD_MAX_OVERRIDES][48];
 } method_settings;
+
+/* Prints the help lines of the options method_solver_option takes: every
+ * quality setting with its default and range, --preset, and the GPU
+ * options that are not quality. */
+void method_print_options(void);
+
+/* Takes `opt` (and its value) into `m` if it is one of those options;
+ * returns 0 when it is not. */
+int method_solver_option(cli_args *a, const char *opt, method_settings *m);
+
+/* Loads the scene with the command line's density scale, then resolves the
+ * quality into m->solver: the scene file's quality, --preset, the
+ * overrides. Messages name the file or the option. */
+xrad_status method_load_scene(const char *path, method_settings *m, xrad_scene **out,
+                              xrad_error *err);
 
 typedef struct method_result {
     double wall_ms;             /* host time of the solve (or frame) alone */

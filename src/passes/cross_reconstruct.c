@@ -91,6 +91,7 @@ void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
         .pairs = q->pairs,
         .first = q->first,
         .count = q->count ? q->count : q->element_count - q->first,
+        .neighbours = q->exact_texel_only ? 0u : 1u,
     };
     gpu_kernel_dispatch(&p->kernel, cmd, q->new_slot, &push, push.count,
                         CROSS_RECONSTRUCT_GROUP);

@@ -50,6 +50,7 @@ typedef struct cross_reconstruct_params {
     /* Elements [first, first + count) (count 0: all): a redistribution
      * may be cut into several submissions. */
     uint32_t first, count;
+    bool exact_texel_only; /* no nearest-texel check (XRAD_ID_CHECK_EXACT) */
 } cross_reconstruct_params;
 
 xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,

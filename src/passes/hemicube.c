@@ -78,7 +78,7 @@ static xrad_status create_render_pass(hemicube_pass *p, xrad_error *err)
      * resolve ignores the view's base layer); single-sampled colour is
      * sampled or read by compute directly. */
     gpu_render_pass_desc desc = {
-        .color_format = rad ? HEMICUBE_RADIOSITY_FORMAT : HEMICUBE_ID_FORMAT,
+        .color_format = rad ? hemicube_radiosity_format(p->desc.fp32) : HEMICUBE_ID_FORMAT,
         .depth_format = HEMICUBE_DEPTH_FORMAT,
         .samples = resolve ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT,
         .color_final_layout = resolve ? VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL
@@ -179,7 +179,7 @@ static xrad_status create_targets(hemicube_pass *p, xrad_error *err)
     uint32_t res = p->desc.res, layers = p->desc.max_hemicubes * HEMICUBE_FACES;
     VkSampleCountFlagBits samples = resolve ? VK_SAMPLE_COUNT_4_BIT : VK_SAMPLE_COUNT_1_BIT;
     gpu_image_desc td = {
-        .format = rad ? HEMICUBE_RADIOSITY_FORMAT : HEMICUBE_ID_FORMAT,
+        .format = rad ? hemicube_radiosity_format(p->desc.fp32) : HEMICUBE_ID_FORMAT,
         .width = res,
         .height = res,
         .layers = layers,
@@ -190,7 +190,7 @@ static xrad_status create_targets(hemicube_pass *p, xrad_error *err)
         .category = GPU_MEM_RENDER_TARGET,
     };
     gpu_image_desc md = {
-        .format = HEMICUBE_RADIOSITY_FORMAT,
+        .format = hemicube_radiosity_format(p->desc.fp32),
         .width = res,
         .height = res,
         .layers = layers,
@@ -278,6 +278,11 @@ void hemicube_destroy(struct xrad_context *ctx, hemicube_pass **pass)
     vkDestroyRenderPass(dev, p->render_pass, NULL);
     free(p);
     *pass = NULL;
+}
+
+VkFormat hemicube_radiosity_format(bool fp32)
+{
+    return fp32 ? VK_FORMAT_R32G32B32A32_SFLOAT : VK_FORMAT_R16G16B16A16_SFLOAT;
 }
 
 static xrad_status check_desc(struct xrad_context *ctx, const hemicube_desc *d, xrad_error *err)

@@ -17,7 +17,7 @@
  *  - IDs: R32_UINT colour = surface + 1 (0: nothing) + D32 depth, reversed Z
  *    (clear 0, GREATER) with an infinite far plane and a near plane at a
  *    small fraction of the scene's diameter.
- *  - radiosity: RGBA16F colour = B x scale of the visible front side, from
+ *  - radiosity: RGBA16F (or RGBA32F, desc.fp32) colour = B x scale of the visible front side, from
  *    the atlas (bilinear between element samples, as the display), 1 or 4
  *    samples, resolved with vkCmdResolveImage (lavapipe's render-pass
  *    resolve ignores the view's base layer), + depth. The scale keeps large
@@ -56,7 +56,6 @@
 struct xrad_context;
 
 #define HEMICUBE_ID_FORMAT VK_FORMAT_R32_UINT
-#define HEMICUBE_RADIOSITY_FORMAT VK_FORMAT_R16G16B16A16_SFLOAT
 #define HEMICUBE_DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
 
 /* Near plane and origin offset along the normal, as fractions of the
@@ -107,7 +106,11 @@ typedef struct hemicube_desc {
     uint32_t msaa;          /* radiosity: 1 or 4 samples; IDs: 0 or 1 */
     hemicube_path path;
     double diameter;        /* m, scene size: near plane and origin offset scale with it; > 0 */
+    bool fp32;              /* radiosity: RGBA32F texels instead of RGBA16F */
 } hemicube_desc;
+
+/* The radiosity texel format for desc->fp32. */
+VkFormat hemicube_radiosity_format(bool fp32);
 
 typedef struct hemicube_pass hemicube_pass;
 
@@ -136,7 +139,7 @@ hemicube_check_result hemicube_pass_check(const hemicube_pass *pass);
  * 1 (multiview). */
 uint32_t hemicube_instances_per_hemicube(const hemicube_pass *pass);
 
-/* The result: R32_UINT (IDs) or RGBA16F (radiosity, resolved), 2D array,
+/* The result: R32_UINT (IDs) or RGBA16F/32F (radiosity, resolved), 2D array,
  * max_hemicubes x 5 layers, res x res, usable as sampled image and transfer
  * source. */
 gpu_image *hemicube_image(hemicube_pass *pass);

@@ -84,7 +84,7 @@ void incremental_reconstruct_record(incremental_reconstruct_pass *p, VkCommandBu
                                            : count,
         .element_count = q->element_count,
         .hemicube_res = q->hemicube_res,
-        .neighbours = 1u,
+        .neighbours = q->exact_texel_only ? 0u : 1u,
         .subdivide_ratio = (float)q->subdivide_ratio,
     };
     /* Shooting steps run one invocation per receiving element. */

@@ -38,6 +38,7 @@ typedef struct incremental_reconstruct_params {
     uint32_t element_count, surface_count;
     uint32_t hemicube_res;  /* pixels per face side of the ID hemicubes */
     double subdivide_ratio; /* > 0: exact form factor where A_s / r^2 exceeds it */
+    bool exact_texel_only;  /* no nearest-texel check (XRAD_ID_CHECK_EXACT) */
 } incremental_reconstruct_params;
 
 xrad_status incremental_reconstruct_create(struct xrad_context *ctx,

@@ -47,7 +47,7 @@ typedef struct reconstruct_params {
     uint32_t element_count;
     uint32_t hemicube_res;  /* pixels per face side of the ID hemicubes */
     double subdivide_ratio; /* > 0: exact form factor where A_s / r^2 exceeds it */
-    bool exact_texel_only;  /* true: no nearest-texel check (for tests) */
+    bool exact_texel_only;  /* true: no nearest-texel check (XRAD_ID_CHECK_EXACT) */
 } reconstruct_params;
 
 xrad_status reconstruct_create(struct xrad_context *ctx, reconstruct_pass **out,

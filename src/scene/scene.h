@@ -23,6 +23,7 @@
 #include "xrad.h"
 
 #define SCENE_NAME_MAX 64
+#define SCENE_MAX_QUALITY 16
 
 typedef struct material {
     char name[SCENE_NAME_MAX];
@@ -121,6 +122,14 @@ struct xrad_scene {
     camera cam;
 
     char name[SCENE_NAME_MAX]; /* the file's "name"; empty if none */
+
+    /* The file's "quality" (xrad_scene_get_quality): its preset and its
+     * settings as text, in file order. */
+    char quality_preset[16];
+    uint32_t quality_count;
+    char quality_name[SCENE_MAX_QUALITY][48];
+    char quality_value[SCENE_MAX_QUALITY][64];
+    double density_scale; /* what the densities were multiplied by */
 };
 
 /* The bilinear parametrisation of a surface, object space. */

@@ -24,6 +24,7 @@ typedef struct ctx {
     char where[3 * SCENE_NAME_MAX + 64];
     double unit;         /* m per file unit */
     double density;      /* scene default, per m */
+    double density_scale; /* every density read times this (quality.density_scale) */
     uint64_t elements;   /* so far, for the limit */
     uint32_t surface_cap;
     struct name_ref *material_index; /* materials sorted by name, for lookups */
@@ -253,6 +254,10 @@ static xrad_status get_density(ctx *c, const cJSON *obj, const char *key, double
     if (!(*out > 0) || *out > SCENE_MAX_DENSITY)
         return fail(c, key, "must be in (0, %g] elements per metre, got %g", SCENE_MAX_DENSITY,
                     *out);
+    *out *= c->density_scale;
+    if (*out > SCENE_MAX_DENSITY)
+        return fail(c, key, "%g x the density scale %g is more than %g elements per metre",
+                    *out / c->density_scale, c->density_scale, SCENE_MAX_DENSITY);
     return XRAD_OK;
 }
 
@@ -752,10 +757,47 @@ static void default_camera(xrad_scene *sc)
 
 /* ------------------------------------------------------------------ root */
 
+/* "quality": {"preset": NAME, SETTING: VALUE, ...}: checked by applying it
+ * to `q`, kept as text for xrad_scene_get_quality. */
+static xrad_status parse_quality(ctx *c, const cJSON *j, xrad_scene *sc, xrad_quality *q)
+{
+    if (!cJSON_IsObject(j))
+        return fail(c, "quality", "must be an object, got %s", type_name(j));
+    xrad_error e;
+    const cJSON *preset = member(j, "preset");
+    if (preset) {
+        if (!cJSON_IsString(preset))
+            return fail(c, "quality.preset", "must be a string, got %s", type_name(preset));
+        if (xrad_quality_preset(q, preset->valuestring, &e))
+            return fail(c, "quality.preset", "%s", e.message);
+        snprintf(sc->quality_preset, sizeof(sc->quality_preset), "%s", preset->valuestring);
+    }
+    for (const cJSON *it = j->child; it; it = it->next) {
+        if (!strcmp(it->string, "preset"))
+            continue;
+        char field[80], value[64];
+        snprintf(field, sizeof(field), "quality.%.60s", it->string);
+        if (cJSON_IsNumber(it))
+            snprintf(value, sizeof(value), "%.17g", it->valuedouble);
+        else if (cJSON_IsString(it))
+            snprintf(value, sizeof(value), "%.63s", it->valuestring);
+        else
+            return fail(c, field, "must be a number or a string, got %s", type_name(it));
+        if (xrad_quality_set(q, it->string, value, &e))
+            return fail(c, field, "%s", e.message);
+        if (sc->quality_count == SCENE_MAX_QUALITY)
+            return fail(c, "quality", "more than %d settings", SCENE_MAX_QUALITY);
+        uint32_t k = sc->quality_count++;
+        snprintf(sc->quality_name[k], sizeof(sc->quality_name[k]), "%s", it->string);
+        snprintf(sc->quality_value[k], sizeof(sc->quality_value[k]), "%s", value);
+    }
+    return XRAD_OK;
+}
+
 static xrad_status parse_root(ctx *c, const cJSON *root, xrad_scene *sc)
 {
     static const char *const keys[] = {"name",    "unit",   "density", "materials",
-                                       "objects", "camera", NULL};
+                                       "objects", "camera", "quality", NULL};
     c->where[0] = '\0';
     if (!cJSON_IsObject(root))
         return fail(c, NULL, "the top level must be a JSON object, got %s", type_name(root));
@@ -781,12 +823,21 @@ static xrad_status parse_root(ctx *c, const cJSON *root, xrad_scene *sc)
                         unit->valuestring);
     }
     sc->unit = c->unit;
+    /* Quality first: its density scale applies to every density below,
+     * unless the loader gave one. */
+    xrad_quality q = {0};
+    const cJSON *quality = member(root, "quality");
+    if (quality && (st = parse_quality(c, quality, sc, &q)))
+        return st;
+    if (!(c->density_scale > 0))
+        c->density_scale = q.density_scale > 0 ? q.density_scale : 1;
+    sc->density_scale = c->density_scale;
     bool has;
     c->density = 20;
     if ((st = get_density(c, root, "density", &c->density, &has)))
         return st;
     if (!has)
-        c->density = 20;
+        c->density = 20 * c->density_scale;
     sc->density = c->density;
 
     const cJSON *mats = member(root, "materials");
@@ -873,6 +924,13 @@ static void line_col(const char *text, size_t offset, unsigned *line, unsigned *
 xrad_status xrad_scene_parse(const char *json, size_t len, const char *name, xrad_scene **out,
                              xrad_error *err)
 {
+    return xrad_scene_parse_with(json, len, name, NULL, out, err);
+}
+
+xrad_status xrad_scene_parse_with(const char *json, size_t len, const char *name,
+                                  const xrad_scene_load_desc *desc, xrad_scene **out,
+                                  xrad_error *err)
+{
     *out = NULL;
     if (!name)
         name = "<memory>";
@@ -910,7 +968,11 @@ xrad_status xrad_scene_parse(const char *json, size_t len, const char *name, xra
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory", name);
     }
     snprintf(sc->path, sizeof(sc->path), "%s", name);
-    ctx c = {.file = name, .err = err};
+    double scale = desc ? desc->density_scale : 0;
+    if (scale != 0 && !(scale > 0 && scale <= 16))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: density scale %g is outside (0, 16]", name,
+                         scale);
+    ctx c = {.file = name, .err = err, .density_scale = scale};
     xrad_status st = parse_root(&c, root, sc);
     free(c.material_index);
     cJSON_Delete(root);
@@ -925,6 +987,12 @@ xrad_status xrad_scene_parse(const char *json, size_t len, const char *name, xra
 }
 
 xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err)
+{
+    return xrad_scene_load_with(path, NULL, out, err);
+}
+
+xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *desc,
+                                 xrad_scene **out, xrad_error *err)
 {
     *out = NULL;
     FILE *f = fopen(path, "rb");
@@ -969,7 +1037,7 @@ xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err)
     if (!buf)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory reading it", path);
     if (!st)
-        st = xrad_scene_parse(buf, len, path, out, err);
+        st = xrad_scene_parse_with(buf, len, path, desc, out, err);
     free(buf);
     return st;
 }
@@ -987,4 +1055,14 @@ void xrad_scene_destroy(xrad_scene **scene)
     free(sc->elements);
     free(sc);
     *scene = NULL;
+}
+
+void xrad_scene_get_quality(const xrad_scene *scene, xrad_quality *q)
+{
+    xrad_error ignored;
+    /* Checked when the file was parsed. */
+    if (scene->quality_preset[0])
+        xrad_quality_preset(q, scene->quality_preset, &ignored);
+    for (uint32_t k = 0; k < scene->quality_count; k++)
+        xrad_quality_set(q, scene->quality_name[k], scene->quality_value[k], &ignored);
 }

@@ -150,11 +150,13 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                          .msaa = 1, .path = HEMICUBE_PATH_AUTO, .diameter = diameter};
     hemicube_desc back = {.kind = HEMICUBE_RADIOSITY, .res = d->back_res, .max_hemicubes = P,
                           .msaa = d->back_msaa, .path = HEMICUBE_PATH_AUTO,
-                          .diameter = diameter};
+                          .diameter = diameter,
+                          .fp32 = d->radiosity_format == XRAD_RADIOSITY_FP32};
     /* One sample, as the thesis's combined ID + radiosity hemicube (5.3.1). */
     hemicube_desc gather = {.kind = HEMICUBE_RADIOSITY, .res = d->hemicube_res,
                             .max_hemicubes = P, .msaa = 1, .path = HEMICUBE_PATH_AUTO,
-                            .diameter = diameter};
+                            .diameter = diameter,
+                            .fp32 = d->radiosity_format == XRAD_RADIOSITY_FP32};
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     size_t ns = gs->surface_count ? gs->surface_count : 1;
@@ -412,6 +414,7 @@ static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, ui
                                  .pairs = pairs,
                                  .first = first,
                                  .count = count,
+                                 .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
                              });
     gpu_timer_end(s->timer, cmd);
 }

@@ -70,8 +70,9 @@ typedef struct gather {
 static uint32_t batch_size(const xrad_solver *s)
 {
     uint64_t res = s->desc.hemicube_res, msaa = s->desc.msaa;
-    /* Colour (RGBA16F) and depth (D32) at msaa samples, plus the resolve target. */
-    uint64_t per = res * res * HEMICUBE_FACES * (12 * msaa + (msaa > 1 ? 8 : 0));
+    uint64_t color = s->desc.radiosity_format == XRAD_RADIOSITY_FP32 ? 16 : 8;
+    /* Colour and depth (D32) at msaa samples, plus the resolve target. */
+    uint64_t per = res * res * HEMICUBE_FACES * ((color + 4) * msaa + (msaa > 1 ? color : 0));
     uint64_t k = MAX_BATCH_BYTES / per;
     const VkPhysicalDeviceLimits *lim = &s->ctx->props.limits;
     uint32_t layers = (lim->maxImageArrayLayers < lim->maxFramebufferLayers
@@ -192,6 +193,7 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         .msaa = s->desc.msaa,
         .path = HEMICUBE_PATH_AUTO,
         .diameter = s->gs.diameter > 0 ? s->gs.diameter : 1.0,
+        .fp32 = s->desc.radiosity_format == XRAD_RADIOSITY_FP32,
     };
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT |

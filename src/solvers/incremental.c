@@ -206,6 +206,7 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
         .surface_count = gs->surface_count,
         .hemicube_res = s->desc.hemicube_res,
         .subdivide_ratio = s->desc.subdivide_ratio,
+        .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
     };
     if ((st = incremental_reconstruct_create(ctx, &params, &inc->pass, err)))
         return st;

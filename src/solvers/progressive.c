@@ -130,6 +130,7 @@ xrad_status progressive_create(xrad_solver *s, progressive **out, xrad_error *er
         .element_count = gs->element_count,
         .hemicube_res = s->desc.hemicube_res,
         .subdivide_ratio = s->desc.subdivide_ratio,
+        .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
     };
     s->stats.hemicube_path = hemicube_path_name(p->hemicube);
     *out = p;

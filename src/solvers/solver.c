@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "gpu/cmd.h"
 #include "gpu/context.h"
+#include "solvers/quality.h"
 #include "solvers/solver.h"
 
 static const struct {
@@ -43,57 +44,16 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
 {
     if (!xrad_method_name(d->method))
         return xrad_fail(err, XRAD_ERROR_INPUT, "solver: method %d is unknown", (int)d->method);
-    if (!d->hemicube_res)
-        d->hemicube_res = 64;
-    if (d->hemicube_res < 8 || d->hemicube_res > 1024 || d->hemicube_res % 2)
-        return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "solver: hemicube_res must be even and in [8, 1024], got %u",
-                         d->hemicube_res);
-    if (!d->msaa)
-        d->msaa = 4;
-    if (d->msaa != 1 && d->msaa != 4)
-        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: msaa must be 1 or 4, got %u", d->msaa);
-    if (d->threshold == 0)
-        d->threshold = 1e-4;
-    if (!(d->threshold > 0 && d->threshold < 1))
-        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: threshold must be in (0, 1), got %g",
-                         d->threshold);
-    if (!d->batch)
-        d->batch = 32;
-    if (d->batch > 4096)
-        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: batch must be in [1, 4096], got %u",
-                         d->batch);
-    if (!d->max_patches)
-        d->max_patches = 8;
-    if (d->max_patches > 64)
-        return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "solver: max_patches must be in [1, 64], got %u", d->max_patches);
-    if (d->subdivide_ratio == 0)
-        d->subdivide_ratio = 0.01;
-    if (!(d->subdivide_ratio > 0 && d->subdivide_ratio <= 1e6))
-        return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "solver: subdivide_ratio must be in (0, 1e6], got %g",
-                         d->subdivide_ratio);
+    /* The quality settings: one table of defaults and ranges (quality.c). */
+    xrad_quality q = {.solver = *d, .density_scale = 1};
+    xrad_status st = quality_resolve(&q, err);
+    if (st) {
+        xrad_error_prefix(err, "solver");
+        return st;
+    }
+    *d = q.solver;
     if (!d->max_iterations)
         d->max_iterations = 100000;
-    if (d->frame_shots > 10000000)
-        return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "solver: frame_shots must be at most 1e7, got %u", d->frame_shots);
-    if (!d->cross_grid)
-        d->cross_grid = 4;
-    if (d->cross_grid > 16)
-        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: cross_grid must be in [1, 16], got %u",
-                         d->cross_grid);
-    if (!d->back_res)
-        d->back_res = 16;
-    if (d->back_res < 8 || d->back_res > 256 || d->back_res % 2)
-        return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "solver: back_res must be even and in [8, 256], got %u", d->back_res);
-    if (!d->back_msaa)
-        d->back_msaa = 4;
-    if (d->back_msaa != 1 && d->back_msaa != 4)
-        return xrad_fail(err, XRAD_ERROR_INPUT, "solver: back_msaa must be 1 or 4, got %u",
-                         d->back_msaa);
     if (!(d->time == d->time) || d->time > 1e9 || d->time < -1e9)
         return xrad_fail(err, XRAD_ERROR_INPUT, "solver: time must be finite, got %g", d->time);
     return XRAD_OK;
