@@ -90,6 +90,18 @@ typedef struct xrad_object_info {
 xrad_status xrad_scene_get_object(const xrad_scene *scene, uint32_t index,
                                   xrad_object_info *info, xrad_error *err);
 
+typedef struct xrad_surface_info {
+    const char *name;            /* valid while the scene lives */
+    uint32_t object;             /* index of its object */
+    uint32_t nu, nv;             /* element samples along its u and v edges */
+    double length_u, length_v;   /* m, the u edge (p1 - p0) and v edge (p3 - p0) */
+    double area;                 /* m^2 */
+} xrad_surface_info;
+
+/* Surface `index` (0 .. info.surfaces - 1); XRAD_ERROR_INPUT out of range. */
+xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
+                                   xrad_surface_info *info, xrad_error *err);
+
 /* Displaces dynamic object `index` by `offset` (m, world) on top of its
  * animation, at every scene time: moving an object by hand. A solver sees
  * it at its next pose (xrad_solver_advance, xrad_solver_set_time) as motion
@@ -171,6 +183,24 @@ void xrad_context_destroy(xrad_context **ctx);
 
 /* Validation messages of severity warning or error seen so far. */
 uint32_t xrad_context_validation_messages(const xrad_context *ctx);
+
+#define XRAD_MEMORY_CATEGORIES 8
+
+/* GPU memory by what it is for: sizes of the live allocations (what xrad
+ * asked for; blocks round them up), and their most since the context was
+ * made or the peak was reset. */
+typedef struct xrad_memory_stats {
+    uint32_t count; /* categories */
+    const char *names[XRAD_MEMORY_CATEGORIES]; /* "geometry", "radiosity", "render targets",
+                                                  "staging", "redistribution", "other" */
+    uint64_t bytes[XRAD_MEMORY_CATEGORIES];
+    uint64_t peak[XRAD_MEMORY_CATEGORIES];
+    uint64_t total, total_peak;
+    uint64_t device_bytes; /* VkDeviceMemory held, all heaps */
+} xrad_memory_stats;
+
+void xrad_context_get_memory(xrad_context *ctx, xrad_memory_stats *out);
+void xrad_context_reset_memory_peak(xrad_context *ctx);
 
 /* The name of the chosen device. */
 const char *xrad_context_device_name(const xrad_context *ctx);

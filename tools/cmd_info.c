@@ -1,38 +1,91 @@
-/* xrad info SCENE: what a scene holds and what it costs. */
+/* xrad info SCENE: what a scene holds and what it costs, on the host and,
+ * for one method, on the GPU by category. */
 #include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
+#include "method.h"
 
 static void help(void)
 {
-    printf("usage: xrad info SCENE.json\n\n"
+    printf("usage: xrad info SCENE.json [--method NAME] [--no-gpu] [options]\n\n"
            "Prints the scene's objects, surfaces, elements (static set C, dynamic set M),\n"
-           "radiosity atlas size and memory. Checks the file fully, like every command.\n");
+           "radiosity atlas size and host memory, then the GPU memory a solver of --method\n"
+           "allocates, by category (created, not solved). Checks the file fully, like\n"
+           "every command.\n\n"
+           "  --method NAME     gather, progressive, incremental or cross [cross where the\n"
+           "                    scene has dynamic objects, else progressive]\n"
+           "  --no-gpu          host figures only\n"
+           "  --surfaces        also each surface's element grid\n"
+           "  --device NAME     Vulkan device\n");
+    method_print_options();
 }
 
 static double mib(double bytes) { return bytes / (1024.0 * 1024.0); }
+
+/* The solver's GPU memory by category: what creating it allocates. */
+static int gpu_memory(const xrad_scene *scene, const char *method, const char *device,
+                      const method_settings *m)
+{
+    xrad_error err = {0};
+    xrad_context *ctx = NULL;
+    if (xrad_context_create(&(xrad_context_desc){.device = device}, &ctx, &err)) {
+        printf("GPU memory  unavailable: %s\n", err.message);
+        return 0;
+    }
+    xrad_solver_desc d = m->solver;
+    d.method = xrad_method_from_name(method);
+    xrad_solver *s = NULL;
+    int rc = 0;
+    if (xrad_solver_create(ctx, scene, &d, &s, &err)) {
+        rc = cli_report(&err);
+    } else {
+        xrad_memory_stats ms;
+        xrad_context_get_memory(ctx, &ms);
+        printf("GPU memory  %.2f MiB for %s on %s (peak while creating %.2f MiB):\n",
+               mib((double)ms.total), method, xrad_context_device_name(ctx),
+               mib((double)ms.total_peak));
+        for (uint32_t c = 0; c < ms.count; c++)
+            printf("  %-15s %10.3f MiB\n", ms.names[c], mib((double)ms.bytes[c]));
+    }
+    xrad_solver_destroy(&s);
+    xrad_context_destroy(&ctx);
+    return rc;
+}
 
 int cmd_info(int argc, char **argv)
 {
     cli_args a;
     cli_init(&a, argc, argv);
-    const char *opt;
-    while ((opt = cli_next(&a))) {
+    const char *opt, *method = NULL, *device = NULL;
+    int no_gpu = 0, surfaces = 0;
+    method_settings m = {0};
+    while ((opt = cli_next(&a)) && !a.failed) {
         if (cli_is_help(opt)) {
             help();
             return 0;
+        } else if (!strcmp(opt, "method")) {
+            method = cli_value(&a);
+        } else if (!strcmp(opt, "no-gpu")) {
+            no_gpu = 1;
+        } else if (!strcmp(opt, "surfaces")) {
+            surfaces = 1;
+        } else if (!strcmp(opt, "device")) {
+            device = cli_value(&a);
+        } else if (!method_solver_option(&a, opt, &m)) {
+            cli_unknown(&a, opt);
         }
-        cli_unknown(&a, opt);
     }
     if (a.failed)
         return 1;
     if (a.positional_count != 1)
         return cli_usage_error("info", "needs one scene file (see xrad info --help)");
+    if (method && !xrad_method_from_name(method))
+        return cli_usage_error("info", "--method: '%s' is not a GPU method", method);
 
     xrad_error err = {0};
     xrad_scene *scene = NULL;
-    if (xrad_scene_load(a.positional[0], &scene, &err))
+    if (method_load_scene(a.positional[0], &m, &scene, &err))
         return cli_report(&err);
     xrad_scene_info in;
     xrad_scene_get_info(scene, &in);
@@ -52,8 +105,18 @@ int cmd_info(int argc, char **argv)
     if (in.planarised)
         printf("planarised  %u surface(s), largest vertex move %.3g mm\n", in.planarised,
                in.planarise_max_offset * 1e3);
-    printf("memory      host %.2f MiB, GPU radiosity atlas (B, Bu) %.2f MiB\n",
+    printf("memory      host %.2f MiB, radiosity atlas (B, Bu) %.2f MiB\n",
            mib((double)in.cpu_bytes), mib(atlas_bytes));
+    for (uint32_t i = 0; surfaces && i < in.surfaces; i++) {
+        xrad_surface_info si;
+        if (!xrad_scene_get_surface(scene, i, &si, &err))
+            printf("  surface %-28s %3u x %-3u elements, %.4g x %.4g m\n", si.name, si.nu,
+                   si.nv, si.length_u, si.length_v);
+    }
+    int rc = 0;
+    if (!no_gpu)
+        rc = gpu_memory(scene, method ? method : in.dynamic_objects ? "cross" : "progressive",
+                        device, &m);
     xrad_scene_destroy(&scene);
-    return 0;
+    return rc;
 }

@@ -156,6 +156,8 @@ struct gpu_block {
 struct gpu_memory {
     struct gpu_block *blocks;
     uint64_t category_bytes[GPU_MEM_CATEGORY_COUNT];
+    uint64_t category_peak[GPU_MEM_CATEGORY_COUNT]; /* since create or the last reset */
+    uint64_t total_bytes, total_peak;
     uint64_t heap_bytes[VK_MAX_MEMORY_HEAPS];
     uint32_t block_count, allocations;
     /* $XRAD_GPU_MEMORY_MIB: a smaller budget than the device's, so that
@@ -169,7 +171,7 @@ struct gpu_memory {
 const char *gpu_mem_category_name(gpu_mem_category c)
 {
     static const char *const names[GPU_MEM_CATEGORY_COUNT] = {
-        "geometry", "radiosity", "render targets", "staging", "other"};
+        "geometry", "radiosity", "render targets", "staging", "redistribution", "other"};
     return (unsigned)c < GPU_MEM_CATEGORY_COUNT ? names[c] : "?";
 }
 
@@ -360,6 +362,11 @@ static xrad_status alloc_locked(struct xrad_context *ctx, const VkMemoryRequirem
         .block = block,
     };
     m->category_bytes[category] += req->size;
+    if (m->category_bytes[category] > m->category_peak[category])
+        m->category_peak[category] = m->category_bytes[category];
+    m->total_bytes += req->size;
+    if (m->total_bytes > m->total_peak)
+        m->total_peak = m->total_bytes;
     m->allocations++;
     return XRAD_OK;
 }
@@ -383,6 +390,7 @@ void gpu_memory_free(struct xrad_context *ctx, gpu_allocation *a)
     struct gpu_block *b = a->block;
     gpu_suballoc_free(&b->sa, a->offset, a->size);
     m->category_bytes[a->category] -= a->size;
+    m->total_bytes -= a->size;
     m->allocations--;
     /* Empty blocks go back at once: xrad holds few long-lived resources,
      * and returning them keeps the budget figures honest. */
@@ -420,6 +428,9 @@ void gpu_memory_get_stats(struct xrad_context *ctx, gpu_memory_stats *stats)
     }
     if (m) {
         memcpy(stats->category_bytes, m->category_bytes, sizeof(stats->category_bytes));
+        memcpy(stats->category_peak, m->category_peak, sizeof(stats->category_peak));
+        stats->total_bytes = m->total_bytes;
+        stats->total_peak = m->total_peak;
         stats->blocks = m->block_count;
         stats->allocations = m->allocations;
         pthread_mutex_unlock(&m->lock);
@@ -455,4 +466,35 @@ xrad_status gpu_memory_check_budget(struct xrad_context *ctx, uint64_t bytes,
                          what, (double)bytes / 1048576.0, (double)left / 1048576.0,
                          (double)s.heap_budget[heap] / 1048576.0, heap);
     return XRAD_OK;
+}
+
+void gpu_memory_reset_peak(struct xrad_context *ctx)
+{
+    gpu_memory *m = ctx->mem;
+    pthread_mutex_lock(&m->lock);
+    memcpy(m->category_peak, m->category_bytes, sizeof(m->category_peak));
+    m->total_peak = m->total_bytes;
+    pthread_mutex_unlock(&m->lock);
+}
+
+void xrad_context_get_memory(xrad_context *ctx, xrad_memory_stats *out)
+{
+    memset(out, 0, sizeof(*out));
+    gpu_memory_stats st;
+    gpu_memory_get_stats(ctx, &st);
+    out->count = GPU_MEM_CATEGORY_COUNT;
+    for (uint32_t c = 0; c < GPU_MEM_CATEGORY_COUNT; c++) {
+        out->names[c] = gpu_mem_category_name((gpu_mem_category)c);
+        out->bytes[c] = st.category_bytes[c];
+        out->peak[c] = st.category_peak[c];
+    }
+    out->total = st.total_bytes;
+    out->total_peak = st.total_peak;
+    for (uint32_t h = 0; h < st.heap_count; h++)
+        out->device_bytes += st.heap_bytes[h];
+}
+
+void xrad_context_reset_memory_peak(xrad_context *ctx)
+{
+    gpu_memory_reset_peak(ctx);
 }

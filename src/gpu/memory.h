@@ -71,6 +71,7 @@ typedef enum gpu_mem_category {
     GPU_MEM_RADIOSITY,     /* atlases, shooter tables */
     GPU_MEM_RENDER_TARGET, /* hemicubes, display targets, depth */
     GPU_MEM_STAGING,       /* upload and readback */
+    GPU_MEM_REDISTRIBUTION, /* incremental and cross: what only moving objects need */
     GPU_MEM_OTHER,
     GPU_MEM_CATEGORY_COUNT
 } gpu_mem_category;
@@ -97,6 +98,8 @@ typedef struct gpu_allocation {
 
 typedef struct gpu_memory_stats {
     uint64_t category_bytes[GPU_MEM_CATEGORY_COUNT]; /* requested sizes of live allocations */
+    uint64_t category_peak[GPU_MEM_CATEGORY_COUNT];  /* their most since the last reset */
+    uint64_t total_bytes, total_peak;                /* all categories */
     uint64_t heap_bytes[VK_MAX_MEMORY_HEAPS];        /* VkDeviceMemory held, per heap */
     uint64_t heap_size[VK_MAX_MEMORY_HEAPS];
     uint64_t heap_budget[VK_MAX_MEMORY_HEAPS]; /* VK_EXT_memory_budget, else 3/4 of the heap */
@@ -121,6 +124,9 @@ xrad_status gpu_memory_alloc(struct xrad_context *ctx, const VkMemoryRequirement
 void gpu_memory_free(struct xrad_context *ctx, gpu_allocation *a);
 
 void gpu_memory_get_stats(struct xrad_context *ctx, gpu_memory_stats *stats);
+
+/* Peaks restart from the live sizes. */
+void gpu_memory_reset_peak(struct xrad_context *ctx);
 
 /* XRAD_ERROR_SYSTEM, before anything is allocated, when `bytes` more on
  * the heap that `usage` would use exceeds that heap's budget. */

@@ -187,7 +187,7 @@ static xrad_status create_targets(hemicube_pass *p, xrad_error *err)
         .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT |
                  (resolve ? VK_IMAGE_USAGE_TRANSFER_DST_BIT
                           : VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT),
-        .category = GPU_MEM_RENDER_TARGET,
+        .category = p->desc.redistribution ? GPU_MEM_REDISTRIBUTION : GPU_MEM_RENDER_TARGET,
     };
     gpu_image_desc md = {
         .format = hemicube_radiosity_format(p->desc.fp32),
@@ -197,7 +197,7 @@ static xrad_status create_targets(hemicube_pass *p, xrad_error *err)
         .array = true,
         .usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
         .samples = samples,
-        .category = GPU_MEM_RENDER_TARGET,
+        .category = p->desc.redistribution ? GPU_MEM_REDISTRIBUTION : GPU_MEM_RENDER_TARGET,
     };
     gpu_image_desc dd = {
         .format = HEMICUBE_DEPTH_FORMAT,
@@ -207,7 +207,7 @@ static xrad_status create_targets(hemicube_pass *p, xrad_error *err)
         .array = true,
         .usage = VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT,
         .samples = samples,
-        .category = GPU_MEM_RENDER_TARGET,
+        .category = p->desc.redistribution ? GPU_MEM_REDISTRIBUTION : GPU_MEM_RENDER_TARGET,
     };
     xrad_status s;
     if ((s = gpu_image_create(ctx, &td, &p->target, err)) ||

@@ -107,6 +107,7 @@ typedef struct hemicube_desc {
     hemicube_path path;
     double diameter;        /* m, scene size: near plane and origin offset scale with it; > 0 */
     bool fp32;              /* radiosity: RGBA32F texels instead of RGBA16F */
+    bool redistribution;    /* images count as GPU_MEM_REDISTRIBUTION, not render targets */
 } hemicube_desc;
 
 /* The radiosity texel format for desc->fp32. */

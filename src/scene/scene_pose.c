@@ -125,3 +125,21 @@ xrad_status xrad_scene_set_offset(xrad_scene *scene, uint32_t index, const doubl
     o->offset = v3(offset[0], offset[1], offset[2]);
     return XRAD_OK;
 }
+
+xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
+                                   xrad_surface_info *info, xrad_error *err)
+{
+    memset(info, 0, sizeof(*info));
+    if (!scene || index >= scene->surface_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "scene: surface %u does not exist (%u surfaces)",
+                         index, scene ? scene->surface_count : 0);
+    const surface *s = &scene->surfaces[index];
+    info->name = s->name;
+    info->object = s->object;
+    info->nu = s->nu;
+    info->nv = s->nv;
+    info->length_u = v3_len(v3_sub(s->p[1], s->p[0]));
+    info->length_v = v3_len(v3_sub(s->p[3], s->p[0]));
+    info->area = s->area;
+    return XRAD_OK;
+}

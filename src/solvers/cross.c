@@ -136,7 +136,7 @@ static xrad_status create_pairs(xrad_solver *s, cross *c, xrad_error *err)
     if (bytes > MAX_PAIR_BYTES || bytes > s->ctx->props.limits.maxStorageBufferRange)
         return XRAD_OK;
     return gpu_buffer_create(s->ctx, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
-                             GPU_MEM_RADIOSITY, &c->pairs, err);
+                             GPU_MEM_REDISTRIBUTION, &c->pairs, err);
 }
 
 static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *err)
@@ -147,36 +147,39 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
     uint32_t P = c->P;
     double diameter = c->diameter = gs->diameter > 0 ? gs->diameter : 1.0;
     hemicube_desc ids = {.kind = HEMICUBE_IDS, .res = d->hemicube_res, .max_hemicubes = P,
-                         .msaa = 1, .path = HEMICUBE_PATH_AUTO, .diameter = diameter};
+                         .msaa = 1, .path = HEMICUBE_PATH_AUTO, .diameter = diameter,
+                         .redistribution = true};
     hemicube_desc back = {.kind = HEMICUBE_RADIOSITY, .res = d->back_res, .max_hemicubes = P,
                           .msaa = d->back_msaa, .path = HEMICUBE_PATH_AUTO,
                           .diameter = diameter,
-                          .fp32 = d->radiosity_format == XRAD_RADIOSITY_FP32};
+                          .fp32 = d->radiosity_format == XRAD_RADIOSITY_FP32,
+                          .redistribution = true};
     /* One sample, as the thesis's combined ID + radiosity hemicube (5.3.1). */
     hemicube_desc gather = {.kind = HEMICUBE_RADIOSITY, .res = d->hemicube_res,
                             .max_hemicubes = P, .msaa = 1, .path = HEMICUBE_PATH_AUTO,
                             .diameter = diameter,
-                            .fp32 = d->radiosity_format == XRAD_RADIOSITY_FP32};
+                            .fp32 = d->radiosity_format == XRAD_RADIOSITY_FP32,
+                          .redistribution = true};
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     size_t ns = gs->surface_count ? gs->surface_count : 1;
     xrad_status st;
     if ((st = gpu_buffer_create(ctx, P * sizeof(struct cross_patch), storage, GPU_MEM_DEVICE,
-                                GPU_MEM_RADIOSITY, &c->patches, err)) ||
+                                GPU_MEM_REDISTRIBUTION, &c->patches, err)) ||
         (st = gpu_buffer_create(ctx, P * sizeof(struct cross_value), storage, GPU_MEM_DEVICE,
-                                GPU_MEM_RADIOSITY, &c->values, err)) ||
+                                GPU_MEM_REDISTRIBUTION, &c->values, err)) ||
         (st = gpu_buffer_create(ctx, P * sizeof(vec4), storage, GPU_MEM_DEVICE,
-                                GPU_MEM_RADIOSITY, &c->gathered, err)) ||
+                                GPU_MEM_REDISTRIBUTION, &c->gathered, err)) ||
         (st = gpu_buffer_create(ctx, ns * sizeof(uint32_t), storage, GPU_MEM_DEVICE,
-                                GPU_MEM_RADIOSITY, &c->surface_patch, err)) ||
+                                GPU_MEM_REDISTRIBUTION, &c->surface_patch, err)) ||
         (st = gpu_buffer_create(ctx, (size_t)gs->element_count * sizeof(vec4), storage,
-                                GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &c->shot, err)) ||
+                                GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &c->shot, err)) ||
         (st = gpu_buffer_create(ctx, 2 * CROSS_FRAME_TABLES * P * sizeof(struct gpu_shooter),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
-                                GPU_MEM_GEOMETRY, &c->frames, err)) ||
+                                GPU_MEM_REDISTRIBUTION, &c->frames, err)) ||
         (st = gpu_buffer_create(ctx, 2 * P * sizeof(struct cross_quad),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
-                                GPU_MEM_GEOMETRY, &c->quads, err)) ||
+                                GPU_MEM_REDISTRIBUTION, &c->quads, err)) ||
         (st = create_pairs(s, c, err)) ||
         (st = gpu_upload_buffer(ctx, &c->patches, 0, c->dp.patches,
                                 P * sizeof(struct cross_patch), err)) ||

@@ -167,22 +167,31 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
 
     uint32_t table = inc->m_count + inc->c_capacity;
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    hemicube_desc ids = {
+        .kind = HEMICUBE_IDS,
+        .res = s->desc.hemicube_res,
+        .max_hemicubes = inc->chunk,
+        .msaa = 1,
+        .path = HEMICUBE_PATH_AUTO,
+        .diameter = gs->diameter > 0 ? gs->diameter : 1.0,
+        .redistribution = true,
+    };
     if ((st = gpu_buffer_create(ctx, (VkDeviceSize)gs->vertex_count * sizeof(gpu_scene_vertex),
                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT |
                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                GPU_MEM_DEVICE, GPU_MEM_GEOMETRY, &inc->prev_vertices, err)) ||
+                                GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &inc->prev_vertices, err)) ||
         (st = gpu_buffer_create(ctx, (VkDeviceSize)table * sizeof(struct gpu_shooter),
                                 storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEM_DEVICE,
-                                GPU_MEM_RADIOSITY, &inc->shooters, err)) ||
+                                GPU_MEM_REDISTRIBUTION, &inc->shooters, err)) ||
         (st = gpu_buffer_create(ctx, (VkDeviceSize)table * sizeof(struct gpu_shooter),
                                 VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEM_UPLOAD,
-                                GPU_MEM_STAGING, &inc->staging, err)) ||
+                                GPU_MEM_REDISTRIBUTION, &inc->staging, err)) ||
         (st = gpu_buffer_create(ctx, (VkDeviceSize)table * sizeof(struct incr_value), storage,
-                                GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &inc->values, err)) ||
+                                GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &inc->values, err)) ||
         (st = gpu_buffer_create(ctx, (VkDeviceSize)gs->surface_count * sizeof(float), storage,
-                                GPU_MEM_READBACK, GPU_MEM_RADIOSITY, &inc->power, err)) ||
-        (st = hemicube_create(ctx, gs, s->desc.hemicube_res, inc->chunk, &inc->old_ids, err)) ||
-        (st = hemicube_create(ctx, gs, s->desc.hemicube_res, inc->chunk, &inc->new_ids, err)))
+                                GPU_MEM_READBACK, GPU_MEM_REDISTRIBUTION, &inc->power, err)) ||
+        (st = hemicube_create_desc(ctx, &ids, &inc->old_ids, err)) ||
+        (st = hemicube_create_desc(ctx, &ids, &inc->new_ids, err)))
         return st;
     /* Every dispatch of the reconstruct pass binds both hemicube images,
      * also where only the old pose's was drawn (NEGATIVE): an empty

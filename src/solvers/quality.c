@@ -29,10 +29,11 @@ typedef struct setting {
 #define SOLVER(field) offsetof(xrad_quality, solver) + offsetof(xrad_solver_desc, field)
 
 static const setting settings[] = {
-    {{"hemicube_res", "pixels per hemicube face side (all methods)", XRAD_SETTING_INTEGER, 64,
-      8, 1024, NULL},
+    {{"hemicube_res", "pixels per hemicube face side, even (all methods)",
+      XRAD_SETTING_INTEGER, 64, 8, 1024, NULL},
      SOLVER(hemicube_res), RULE_EVEN},
-    {{"msaa", "samples of gather's radiosity hemicubes", XRAD_SETTING_INTEGER, 4, 1, 4, NULL},
+    {{"msaa", "samples of gather's radiosity hemicubes, 1 or 4", XRAD_SETTING_INTEGER, 4, 1, 4,
+      NULL},
      SOLVER(msaa), RULE_ONE_OR_FOUR},
     {{"id_check", "ID hemicube visibility: the texel and its 8 neighbours, or the texel alone",
       XRAD_SETTING_CHOICE, XRAD_ID_CHECK_NEIGHBOURS, 1, 2, "neighbours|exact"},
@@ -61,10 +62,10 @@ static const setting settings[] = {
     {{"cross_grid", "cross: PROJECTEDRADIOSITY rays per patch side (thesis 4.5.3 gridSize)",
       XRAD_SETTING_INTEGER, 4, 1, 16, NULL},
      SOLVER(cross_grid), RULE_NONE},
-    {{"back_res", "cross: back hemicube face side (thesis 4.5.2)", XRAD_SETTING_INTEGER, 16, 8,
-      256, NULL},
+    {{"back_res", "cross: back hemicube face side, even (thesis 4.5.2)", XRAD_SETTING_INTEGER,
+      16, 8, 256, NULL},
      SOLVER(back_res), RULE_EVEN},
-    {{"back_msaa", "cross: back hemicube samples", XRAD_SETTING_INTEGER, 4, 1, 4, NULL},
+    {{"back_msaa", "cross: back hemicube samples, 1 or 4", XRAD_SETTING_INTEGER, 4, 1, 4, NULL},
      SOLVER(back_msaa), RULE_ONE_OR_FOUR},
     {{"radiosity_format", "texels of radiosity hemicubes (gather, cross)", XRAD_SETTING_CHOICE,
       XRAD_RADIOSITY_FP16, 1, 2, "fp16|fp32"},
