@@ -282,7 +282,26 @@ typedef struct xrad_solver_desc {
     /* Texel format of radiosity hemicubes (gather; cross's gather and back
      * hemicubes): XRAD_RADIOSITY_*; default 0 = FP16. */
     uint32_t radiosity_format;
+    /* XRAD_AMBIENT_ON: xrad_solver_read adds the ambient term of the unshot
+     * radiosity (Cohen et al. 1988) to B (progressive, incremental, cross);
+     * default 0 = OFF. */
+    uint32_t ambient;
+    /* progressive shots (all methods but gather): XRAD_CONSERVE_ON scales a
+     * shooter's form factors down where its receivers would take more than
+     * it sends (point form factors, nearest-texel visibility); default 0 =
+     * ON. */
+    uint32_t conserve;
 } xrad_solver_desc;
+
+enum {
+    XRAD_CONSERVE_ON = 1,
+    XRAD_CONSERVE_OFF = 2,
+};
+
+enum {
+    XRAD_AMBIENT_OFF = 1,
+    XRAD_AMBIENT_ON = 2,
+};
 
 enum {
     /* The element's ID in the texel it projects to or one of the 8 around

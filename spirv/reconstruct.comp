@@ -26,6 +26,19 @@
 // formula, clipped to the receiver's front half-space). The sum over the
 // shooters of the shot is added to B and Bu. The shooter's own surface
 // receives nothing.
+//
+// Conservation: point form factors (and a nearest-texel check that lets a
+// receiver just inside a shadow see the shooter) make the receivers of a
+// shot take more or less than the shooter sends: sum_e A_e F_es != A_s f_s,
+// where f_s is the part of the shooter's hemisphere that front faces fill.
+// At albedo 0.999 a gain above 1 makes the solution diverge and a loss of
+// 1e-3 costs half the light; below that, total power misses the bound
+// E / (1 - rho_max) by a few percent. So a shot stores every F (MODE_FF);
+// per shooter (MODE_NORM) f_s is the delta-form-factor sum of the ID
+// hemicube's texels that show a surface's front (not the background, not a
+// back face, which absorbs), and the form factors are scaled so that the
+// receivers take exactly A_s f_s; then the transfer (MODE_APPLY). In a
+// closed scene every shot then conserves the power it shoots.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 #include "radiosity.h"
@@ -46,13 +59,90 @@ layout(std430, binding = RECONSTRUCT_BINDING_BU) buffer Unshot { vec4 Bu[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_SHOOTERS) readonly buffer Shooters { gpu_shooter shooters[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_STATUS) readonly buffer Status { select_status status; };
 layout(binding = RECONSTRUCT_BINDING_HEMICUBES) uniform utexture2DArray hemicubes;
+layout(std430, binding = RECONSTRUCT_BINDING_FF) buffer FormFactors { float ff[]; };
+layout(std430, binding = RECONSTRUCT_BINDING_NORM) buffer Norm { float norm[]; };
+
+// The part of shooter sh's hemisphere (delta form factors, thesis 2.2.2:
+// dA / (pi (u^2 + v^2 + 1)^2) on the top face, times v on a side face's
+// upper half) that its ID hemicube shows as a surface's front side.
+float front_fraction(gpu_shooter sh)
+{
+    uint res = pc.hemicube_res;
+    vec3 t = sh.tangent.xyz, ns = sh.normal.xyz, b = cross(ns, t);
+    float total = 0.0, front = 0.0;
+    for (uint face = 0u; face < 5u; face++) {
+        uint row0 = face == 0u ? 0u : res / 2u;
+        for (uint row = row0; row < res; row++) {
+            float v = (float(row) + 0.5) / float(res) * 2.0 - 1.0;
+            for (uint col = 0u; col < res; col++) {
+                float u = (float(col) + 0.5) / float(res) * 2.0 - 1.0;
+                float r2 = u * u + v * v + 1.0;
+                float w = (face == 0u ? 1.0 : v) / (r2 * r2);
+                total += w;
+                uint id = texelFetch(hemicubes, ivec3(int(col), int(row),
+                                                      int(sh.hemicube * 5u + face)), 0).r;
+                if (id == 0u)
+                    continue;
+                // The texel's direction in the shooter's frame, as
+                // hemicube_face maps directions to faces.
+                vec3 d = face == 0u ? vec3(u, v, 1.0)
+                       : face == 1u ? vec3(1.0, u, v)
+                       : face == 2u ? vec3(-1.0, -u, v)
+                       : face == 3u ? vec3(-u, 1.0, v)
+                                    : vec3(u, -1.0, v);
+                vec3 world = d.x * t + d.y * b + d.z * ns;
+                if (dot(world, surfaces[id - 1u].normal_area.xyz) < 0.0)
+                    front += w;
+            }
+        }
+    }
+    return total > 0.0 ? front / total : 0.0;
+}
+
+// The form factor from receiver e (point x, normal ne, surface se) to
+// shooter k, 0 where it does not see the shooter.
+float form_factor(uint k, vec3 x, vec3 ne, uint se)
+{
+    gpu_shooter sh = shooters[k];
+    if (sh.surface == se)
+        return 0.0;
+    vec3 ns = sh.normal.xyz;
+    vec3 d = x - sh.pos_area.xyz;
+    float cs = dot(d, ns), ce = -dot(d, ne);
+    if (cs <= 0.0 || ce <= 0.0)
+        return 0.0;
+    vec3 t = sh.tangent.xyz;
+    vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
+    if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
+                          se + 1u))
+        return 0.0;
+    float area = sh.pos_area.w;
+    return shooting_near(d, area, pc.subdivide_ratio)
+               ? shooting_quad(x, ne, surfaces[sh.surface], sh)
+               : shooting_disk(d, cs, ce, area);
+}
 
 void main()
 {
+    uint count = status.shooter_count;
+    if (pc.mode == RECONSTRUCT_MODE_NORM) {
+        uint k = gl_GlobalInvocationID.x;
+        if (k >= count)
+            return;
+        float taken = 0.0;
+        for (uint i = 0u; i < pc.element_count; i++)
+            taken += elements[i].pos_area.w * ff[k * pc.element_count + i];
+        float sent = shooters[k].pos_area.w * front_fraction(shooters[k]);
+        // A receiver set far from what the hemicube shows (a shooter whose
+        // visible front faces all lie on its own surface's plane, say) is
+        // left as it is rather than scaled by a large factor.
+        float q = taken > 0.0 ? sent / taken : 1.0;
+        norm[k] = q > 0.25 && q < 4.0 ? q : min(q, 1.0);
+        return;
+    }
     uint e = gl_GlobalInvocationID.x;
     if (e >= pc.element_count)
         return;
-    uint count = status.shooter_count;
     vec3 ne = elements[e].normal.xyz;
     uint se = elements[e].surface;
     gpu_surface sr = surfaces[se];
@@ -60,25 +150,16 @@ void main()
     vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
     vec3 gathered = vec3(0.0);
     for (uint k = 0u; k < count; k++) {
-        gpu_shooter sh = shooters[k];
-        if (sh.surface == se)
+        if (pc.mode == RECONSTRUCT_MODE_FF) {
+            ff[k * pc.element_count + e] = form_factor(k, x, ne, se);
             continue;
-        vec3 ns = sh.normal.xyz;
-        vec3 d = x - sh.pos_area.xyz;
-        float cs = dot(d, ns), ce = -dot(d, ne);
-        if (cs <= 0.0 || ce <= 0.0)
-            continue;
-        vec3 t = sh.tangent.xyz;
-        vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
-        if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local,
-                              sh.hemicube, se + 1u))
-            continue;
-        float area = sh.pos_area.w;
-        float ff = shooting_near(d, area, pc.subdivide_ratio)
-                       ? shooting_quad(x, ne, surfaces[sh.surface], sh)
-                       : shooting_disk(d, cs, ce, area);
-        gathered += sh.radiosity.rgb * ff;
+        }
+        float f = pc.mode == RECONSTRUCT_MODE_APPLY ? ff[k * pc.element_count + e] * norm[k]
+                                                    : form_factor(k, x, ne, se);
+        gathered += shooters[k].radiosity.rgb * f;
     }
+    if (pc.mode == RECONSTRUCT_MODE_FF)
+        return;
     if (count == 0u || all(equal(gathered, vec3(0.0))))
         return;
     vec3 rho = materials[surfaces[se].material].albedo.rgb;

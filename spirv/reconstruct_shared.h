@@ -15,7 +15,15 @@
 #define RECONSTRUCT_BINDING_SHOOTERS 5
 #define RECONSTRUCT_BINDING_STATUS 6     /* struct select_status: shooter_count */
 #define RECONSTRUCT_BINDING_HEMICUBES 7  /* R32_UINT 2D array, layer = hemicube * 5 + face */
-#define RECONSTRUCT_BINDING_COUNT 8
+#define RECONSTRUCT_BINDING_FF 8         /* float[max_shooters * element_count]: F, shooter-major */
+#define RECONSTRUCT_BINDING_NORM 9       /* float[max_shooters]: min(1, A_s / sum_e A_e F_es) */
+#define RECONSTRUCT_BINDING_COUNT 10
+
+/* With conservation, a shot takes three dispatches (see reconstruct.comp). */
+#define RECONSTRUCT_MODE_DIRECT 0u   /* F and the transfer in one pass (no conservation) */
+#define RECONSTRUCT_MODE_FF 1u       /* per receiver: F to every shooter into ff[] */
+#define RECONSTRUCT_MODE_NORM 2u     /* per shooter: the normalisation from ff[] */
+#define RECONSTRUCT_MODE_APPLY 3u    /* per receiver: rho sum_s B_s F norm_s */
 
 #define RECONSTRUCT_GROUP 64u /* one invocation per receiving element */
 
@@ -23,9 +31,10 @@ struct reconstruct_push {
     uint element_count;
     uint hemicube_res;    /* pixels per face side */
     uint neighbours;      /* 1: nearest-texel visibility check (thesis 4.3.3) */
-    uint pad0;
+    uint mode;            /* RECONSTRUCT_MODE_* */
     float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
-    float pad1, pad2, pad3;
+    uint max_shooters;     /* rows of ff[] */
+    float pad2, pad3;
 };
 
 #endif

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 
 #include "core/error.h"
+#include "gpu/cmd.h"
 #include "gpu/context.h"
 #include "gpu/pipeline.h"
 #include "reconstruct.comp.h"
@@ -75,6 +76,7 @@ void reconstruct_bind(struct xrad_context *ctx, reconstruct_pass *p,
         [RECONSTRUCT_BINDING_SURFACES] = b->surfaces, [RECONSTRUCT_BINDING_ELEMENTS] = b->elements,
         [RECONSTRUCT_BINDING_MATERIALS] = b->materials, [RECONSTRUCT_BINDING_B] = b->B,
         [RECONSTRUCT_BINDING_BU] = b->Bu,             [RECONSTRUCT_BINDING_SHOOTERS] = b->shooters,
+        [RECONSTRUCT_BINDING_FF] = b->ff,             [RECONSTRUCT_BINDING_NORM] = b->norm,
         [RECONSTRUCT_BINDING_STATUS] = b->status,
     };
     VkDescriptorBufferInfo info[RECONSTRUCT_BINDING_COUNT];
@@ -110,11 +112,24 @@ void reconstruct_record(reconstruct_pass *p, VkCommandBuffer cmd,
         .element_count = params->element_count,
         .hemicube_res = params->hemicube_res,
         .neighbours = params->exact_texel_only ? 0u : 1u,
+        .mode = params->conserve ? RECONSTRUCT_MODE_FF : RECONSTRUCT_MODE_DIRECT,
         .subdivide_ratio = (float)params->subdivide_ratio,
+        .max_shooters = params->max_shooters,
     };
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,
                             NULL);
-    vkCmdPushConstants(cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipeline);
+    vkCmdPushConstants(cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    vkCmdDispatchIndirect(cmd, status->buffer, dispatch_offset);
+    if (!params->conserve)
+        return;
+    const VkPipelineStageFlags cs = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
+    gpu_memory_barrier(cmd, cs, VK_ACCESS_SHADER_WRITE_BIT, cs, VK_ACCESS_SHADER_READ_BIT);
+    push.mode = RECONSTRUCT_MODE_NORM;
+    vkCmdPushConstants(cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+    vkCmdDispatch(cmd, (params->max_shooters + RECONSTRUCT_GROUP - 1) / RECONSTRUCT_GROUP, 1, 1);
+    gpu_memory_barrier(cmd, cs, VK_ACCESS_SHADER_WRITE_BIT, cs, VK_ACCESS_SHADER_READ_BIT);
+    push.mode = RECONSTRUCT_MODE_APPLY;
+    vkCmdPushConstants(cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
     vkCmdDispatchIndirect(cmd, status->buffer, dispatch_offset);
 }

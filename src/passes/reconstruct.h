@@ -41,6 +41,9 @@ typedef struct reconstruct_bindings {
     /* R32_UINT 2D array, layer = hemicube * 5 + face, in
      * SHADER_READ_ONLY_OPTIMAL when the pass runs. */
     VkImageView hemicubes;
+    /* float[max_shooters * element_count] and float[max_shooters] where
+     * params.conserve; any storage buffers otherwise. */
+    const gpu_buffer *ff, *norm;
 } reconstruct_bindings;
 
 typedef struct reconstruct_params {
@@ -48,6 +51,10 @@ typedef struct reconstruct_params {
     uint32_t hemicube_res;  /* pixels per face side of the ID hemicubes */
     double subdivide_ratio; /* > 0: exact form factor where A_s / r^2 exceeds it */
     bool exact_texel_only;  /* true: no nearest-texel check (XRAD_ID_CHECK_EXACT) */
+    /* A shooter's receivers take at most its power (spirv/reconstruct.comp,
+     * "Conservation"): three dispatches instead of one. */
+    bool conserve;
+    uint32_t max_shooters;  /* the shooter table's size */
 } reconstruct_params;
 
 xrad_status reconstruct_create(struct xrad_context *ctx, reconstruct_pass **out,

@@ -283,8 +283,43 @@ xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
     return upload_geometry(ctx, gs, time, err);
 }
 
+/* The ambient term of the unshot remainder (Cohen, Chen, Wallace and
+ * Greenberg 1988, "A progressive refinement approach to fast radiosity
+ * image generation", section 4): what the unshot radiosity Bu would add
+ * if it spread evenly over an enclosure of the area-mean albedo,
+ * rho_i x (sum Bu_j A_j / sum A_j) / (1 - rho_mean), per channel. Exact in
+ * a closed uniform furnace, a first-order estimate elsewhere. */
+static void add_ambient(const xrad_scene *scene, const vec4 *bu, vec4 *b, uint32_t n)
+{
+    double area = 0, u[3] = {0, 0, 0}, rho[3] = {0, 0, 0};
+    for (uint32_t i = 0; i < n; i++) {
+        const element *el = &scene->elements[i];
+        vec3 al = scene->materials[scene->surfaces[el->surface].material].albedo;
+        double a = el->area;
+        area += a;
+        u[0] += a * bu[i].x;
+        u[1] += a * bu[i].y;
+        u[2] += a * bu[i].z;
+        rho[0] += a * al.x;
+        rho[1] += a * al.y;
+        rho[2] += a * al.z;
+    }
+    if (!(area > 0))
+        return;
+    double amb[3];
+    for (int c = 0; c < 3; c++)
+        amb[c] = u[c] / area / (1 - rho[c] / area);
+    for (uint32_t i = 0; i < n; i++) {
+        const element *el = &scene->elements[i];
+        vec3 al = scene->materials[scene->surfaces[el->surface].material].albedo;
+        b[i].x += (float)(al.x * amb[0]);
+        b[i].y += (float)(al.y * amb[1]);
+        b[i].z += (float)(al.z * amb[2]);
+    }
+}
+
 xrad_status gpu_scene_read(struct xrad_context *ctx, gpu_scene *gs, xrad_atlas *atlas,
-                           xrad_error *err)
+                           bool ambient, xrad_error *err)
 {
     const xrad_scene *scene = gs->scene;
     if (atlas->width != scene->atlas_width || atlas->height != scene->atlas_height ||
@@ -294,12 +329,17 @@ xrad_status gpu_scene_read(struct xrad_context *ctx, gpu_scene *gs, xrad_atlas *
                          atlas->width, atlas->height, scene->atlas_width, scene->atlas_height);
     if (!gs->element_count)
         return XRAD_OK;
-    vec4 *b = malloc(gs->element_count * sizeof(*b));
-    if (!b)
+    size_t bytes = gs->element_count * sizeof(vec4);
+    vec4 *b = malloc(bytes), *bu = ambient ? malloc(bytes) : NULL;
+    if (!b || (ambient && !bu)) {
+        free(b);
+        free(bu);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory reading B",
                          scene->path);
-    xrad_status s =
-        gpu_readback_buffer(ctx, &gs->B, 0, b, gs->element_count * sizeof(*b), err);
+    }
+    xrad_status s = gpu_readback_buffer(ctx, &gs->B, 0, b, bytes, err);
+    if (!s && ambient && !(s = gpu_readback_buffer(ctx, &gs->Bu, 0, bu, bytes, err)))
+        add_ambient(scene, bu, b, gs->element_count);
     if (!s) {
         memset(atlas->rgba, 0, (size_t)atlas->width * atlas->height * 4 * sizeof(float));
         for (uint32_t i = 0; i < gs->element_count; i++) {
@@ -312,5 +352,6 @@ xrad_status gpu_scene_read(struct xrad_context *ctx, gpu_scene *gs, xrad_atlas *
         }
     }
     free(b);
+    free(bu);
     return s;
 }

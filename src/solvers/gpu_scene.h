@@ -79,8 +79,9 @@ xrad_status gpu_scene_fix_patches(struct xrad_context *ctx, gpu_scene *gs,
 /* B = Bu = E for every element. */
 xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err);
 
-/* Reads B back into a host atlas (xrad_atlas_create of the same scene). */
+/* Reads B back into a host atlas (xrad_atlas_create of the same scene);
+ * with `ambient`, plus the ambient term of the unshot radiosity Bu. */
 xrad_status gpu_scene_read(struct xrad_context *ctx, gpu_scene *gs, xrad_atlas *atlas,
-                           xrad_error *err);
+                           bool ambient, xrad_error *err);
 
 #endif

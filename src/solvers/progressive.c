@@ -33,12 +33,14 @@
 
 /* Hemicube image memory a solver may hold, all shooters of a shot together. */
 #define MAX_HEMICUBE_BYTES (256ull << 20)
+#define MAX_FF_BYTES (64ull << 20)
 
 struct progressive {
     select_pass *select;
     hemicube_pass *hemicube;
     reconstruct_pass *reconstruct;
     gpu_buffer shooters; /* struct gpu_shooter[max_shooters] */
+    gpu_buffer ff, norm; /* the reconstruct pass's conservation (reconstruct.h) */
     gpu_buffer status;   /* struct select_status, host-visible: read once per batch */
     uint32_t max_shooters;
     select_params select_params;
@@ -77,6 +79,8 @@ void progressive_destroy(xrad_solver *s, progressive **engine)
     select_destroy(s->ctx, &p->select);
     gpu_buffer_destroy(s->ctx, &p->status);
     gpu_buffer_destroy(s->ctx, &p->shooters);
+    gpu_buffer_destroy(s->ctx, &p->ff);
+    gpu_buffer_destroy(s->ctx, &p->norm);
     free(p);
     *engine = NULL;
 }
@@ -103,6 +107,18 @@ xrad_status progressive_create(xrad_solver *s, progressive **out, xrad_error *er
                               err)) ||
         (st = reconstruct_create(ctx, &p->reconstruct, err)))
         goto fail;
+    /* Conservation keeps every form factor of a shot: up to 64 MiB, else
+     * the single-pass transfer. */
+    uint64_t ff_bytes = (uint64_t)p->max_shooters * (gs->element_count ? gs->element_count : 1) *
+                        sizeof(float);
+    bool conserve = s->desc.conserve != XRAD_CONSERVE_OFF && ff_bytes <= MAX_FF_BYTES &&
+                    ff_bytes <= ctx->props.limits.maxStorageBufferRange;
+    if ((st = gpu_buffer_create(ctx, conserve ? ff_bytes : 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &p->ff, err)) ||
+        (st = gpu_buffer_create(ctx, (VkDeviceSize)p->max_shooters * sizeof(float),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
+                                GPU_MEM_RADIOSITY, &p->norm, err)))
+        goto fail;
     /* Three timed passes per shot in one command buffer. */
     if (s->timer->capacity < 3 * s->desc.batch + 1) {
         gpu_timer_destroy(ctx, &s->timer);
@@ -115,7 +131,7 @@ xrad_status progressive_create(xrad_solver *s, progressive **out, xrad_error *er
     reconstruct_bind(ctx, p->reconstruct,
                      &(reconstruct_bindings){&gs->surfaces, &gs->elements, &gs->materials,
                                              &gs->B, &gs->Bu, &p->shooters, &p->status,
-                                             hemicube_ids_view(p->hemicube)});
+                                             hemicube_ids_view(p->hemicube), &p->ff, &p->norm});
     p->select_params = (select_params){
         .element_count = gs->element_count,
         .max_patches = s->desc.max_patches,
@@ -131,6 +147,8 @@ xrad_status progressive_create(xrad_solver *s, progressive **out, xrad_error *er
         .hemicube_res = s->desc.hemicube_res,
         .subdivide_ratio = s->desc.subdivide_ratio,
         .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
+        .conserve = conserve,
+        .max_shooters = p->max_shooters,
     };
     s->stats.hemicube_path = hemicube_path_name(p->hemicube);
     *out = p;

@@ -70,6 +70,16 @@ static const setting settings[] = {
     {{"radiosity_format", "texels of radiosity hemicubes (gather, cross)", XRAD_SETTING_CHOICE,
       XRAD_RADIOSITY_FP16, 1, 2, "fp16|fp32"},
      SOLVER(radiosity_format), RULE_NONE},
+    {{"ambient",
+      "progressive, incremental, cross: add the unshot remainder spread evenly (ambient term, "
+      "Cohen et al. 1988) to what is read",
+      XRAD_SETTING_CHOICE, XRAD_AMBIENT_OFF, 1, 2, "off|on"},
+     SOLVER(ambient), RULE_NONE},
+    {{"conserve",
+      "progressive shots: a shooter's receivers take at most its power (form factors scaled "
+      "down where they would take more)",
+      XRAD_SETTING_CHOICE, XRAD_CONSERVE_ON, 1, 2, "on|off"},
+     SOLVER(conserve), RULE_NONE},
     {{"density_scale", "every element density of the scene file times this (at load)",
       XRAD_SETTING_REAL, 1, 0, 16, NULL},
      offsetof(xrad_quality, density_scale), RULE_OPEN_LOW},
@@ -255,11 +265,11 @@ static const struct {
     const char *name;
     double v[SETTING_COUNT];
 } presets[] = {
-    /*            res msaa id  subdiv max  thresh batch shots grid back bmsaa fmt density */
-    {"draft",       {32, 1, 1, 0.1, 2, 1e-2, 64, 0, 1, 8, 1, 1, 0.5}},
-    {"interactive", {64, 1, 1, 0.01, 4, 1e-3, 32, 0, 2, 16, 4, 1, 1}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-4, 32, 0, 4, 32, 4, 1, 1}},
-    {"reference",   {256, 4, 2, 0.001, 16, 1e-5, 32, 0, 8, 64, 4, 2, 2}},
+    /*        res msaa id  subdiv max  thresh batch shots grid back bmsaa fmt amb cons density */
+    {"draft",       {32, 1, 1, 0.1, 2, 1e-2, 64, 0, 1, 8, 1, 1, 2, 1, 0.5}},
+    {"interactive", {64, 1, 1, 0.01, 4, 1e-3, 32, 0, 2, 16, 4, 1, 2, 1, 1}},
+    {"high",        {128, 4, 1, 0.01, 8, 1e-4, 32, 0, 4, 32, 4, 1, 1, 1, 1}},
+    {"reference",   {256, 4, 2, 0.001, 16, 1e-5, 32, 0, 8, 64, 4, 2, 1, 1, 2}},
 };
 
 const char *xrad_quality_preset_list(void)

@@ -161,7 +161,9 @@ xrad_status xrad_solver_set_time(xrad_solver *s, double time, xrad_error *err)
 
 xrad_status xrad_solver_read(xrad_solver *s, xrad_atlas *atlas, xrad_error *err)
 {
-    return gpu_scene_read(s->ctx, &s->gs, atlas, err);
+    /* Gather keeps no unshot radiosity to estimate from. */
+    bool ambient = s->desc.ambient == XRAD_AMBIENT_ON && s->desc.method != XRAD_METHOD_GATHER;
+    return gpu_scene_read(s->ctx, &s->gs, atlas, ambient, err);
 }
 
 void xrad_solver_get_stats(const xrad_solver *s, xrad_solver_stats *stats) { *stats = s->stats; }

@@ -195,7 +195,9 @@ static int rig_create(xrad_context *ctx, uint32_t max_shooters, rig *r)
     }
     reconstruct_bind(ctx, r->pass,
                      &(reconstruct_bindings){&r->surfaces, &r->elements, &r->materials, &r->B,
-                                             &r->Bu, &r->shooters, &r->status, r->ids.view});
+                                             &r->Bu, &r->shooters, &r->status, r->ids.view,
+                                             /* unused without conservation */
+                                             &r->B, &r->B});
     return 1;
 }
 
