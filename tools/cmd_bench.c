@@ -8,6 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "bench.h"
 #include "cli.h"
 #include "method.h"
 
@@ -32,21 +33,21 @@ static void help(void)
            "  --max-reference-elements N  above this element count the reference is a\n"
            "                     high-quality GPU gather (hemicube 128, 4x MSAA, threshold\n"
            "                     1e-5) instead of the CPU solver [12000]\n"
-           "  --device NAME      Vulkan device\n",
+           "  --device NAME      Vulkan device\n"
+           "  --sweep one|grid   instead: per scene and method, vary the quality settings\n"
+           "                     one at a time from the base (and the presets draft,\n"
+           "                     interactive, high) or over their whole grid; writes\n"
+           "                     DIR/SCENE-METHOD.csv, .json and an .svg of frame time\n"
+           "                     against NRMSE with the Pareto front labelled\n"
+           "  --sweep-settings S which settings and values: \"hemicube_res=16,32,64;\n"
+           "                     cross_grid=1,4\" [one: a list per method; grid: needed]\n"
+           "  --sweep-out DIR    where the sweep's files go [out/sweep]\n",
            method_list());
     method_print_options();
     printf("\nReference images are cached in the cache directory under a name that hashes the\n"
            "scene file, the reference settings, the image size and the pose's time.\n");
 }
 
-typedef struct bench_opts {
-    const char *scenes[8];
-    int scene_count;
-    const char *methods, *json, *cache, *device;
-    uint32_t repeat, width, height, ref_rays, max_ref_elements;
-    double time, fps;
-    method_settings m;
-} bench_opts;
 
 /* FNV-1a, to name cached references by what made them. */
 static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
@@ -126,9 +127,9 @@ static void pass_frames_free(pass_frames *pf)
 
 /* The reference image for a scene at scene time t: from the cache, or made
  * and cached. */
-static xrad_status reference_image(xrad_context *ctx, const char *path, const xrad_scene *scene,
-                                   const bench_opts *o, double t, float **img, uint32_t *w,
-                                   uint32_t *h, char *kind, size_t kind_n, xrad_error *err)
+xrad_status bench_reference_image(xrad_context *ctx, const char *path, const xrad_scene *scene,
+                                  const bench_opts *o, double t, float **img, uint32_t *w,
+                                  uint32_t *h, char *kind, size_t kind_n, xrad_error *err)
 {
     xrad_scene_info info;
     xrad_scene_get_info(scene, &info);
@@ -197,6 +198,7 @@ static int parse(int argc, char **argv, bench_opts *o)
     o->ref_rays = 32;
     o->max_ref_elements = 12000;
     o->fps = 30;
+    o->sweep_out = "out/sweep";
     const char *opt;
     while ((opt = cli_next(&a)) && !a.failed) {
         if (cli_is_help(opt)) {
@@ -222,6 +224,15 @@ static int parse(int argc, char **argv, bench_opts *o)
             cli_double(&a, -1e6, 1e6, &o->time);
         } else if (!strcmp(opt, "fps")) {
             cli_double(&a, 1e-3, 1e6, &o->fps);
+        } else if (!strcmp(opt, "sweep")) {
+            o->sweep = cli_value(&a);
+            if (o->sweep && strcmp(o->sweep, "one") && strcmp(o->sweep, "grid"))
+                return cli_usage_error("bench", "--sweep: '%s' is neither 'one' nor 'grid'",
+                                       o->sweep);
+        } else if (!strcmp(opt, "sweep-settings")) {
+            o->sweep_settings = cli_value(&a);
+        } else if (!strcmp(opt, "sweep-out")) {
+            o->sweep_out = cli_value(&a);
         } else if (method_solver_option(&a, opt, &o->m)) {
             continue;
         } else if (!strcmp(opt, "device")) {
@@ -247,11 +258,13 @@ static int parse(int argc, char **argv, bench_opts *o)
 
 /* One scene x method: converge at o->time, then `repeat` timed frames; the
  * last one's image for NRMSE. Returns the median frame time in *frame_ms. */
-static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *scene,
-                             const char *method, const bench_opts *o, const float *ref,
-                             uint32_t rw, uint32_t rh, const char *ref_kind, cJSON *rows,
-                             double *frame_ms, xrad_error *err)
+xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *scene,
+                      const char *method, const method_settings *settings, const bench_opts *o,
+                      const float *ref, uint32_t rw, uint32_t rh, const char *ref_kind,
+                      cJSON *rows, bench_point *out, xrad_error *err)
 {
+    memset(out, 0, sizeof(*out));
+    xrad_context_reset_memory_peak(ctx);
     method_run_state run = {0};
     xrad_atlas atlas = {0};
     xrad_status st = xrad_atlas_create(scene, &atlas, err);
@@ -268,7 +281,7 @@ static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_sce
         st = cli_fail(err, XRAD_ERROR_SYSTEM, "bench: out of memory");
         goto done;
     }
-    method_settings m = o->m;
+    method_settings m = *settings;
     m.solver.time = m.reference.time = o->time;
     /* The dynamic methods start from a converged solution; the others
      * solve every frame from scratch and need none. */
@@ -327,8 +340,20 @@ static xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_sce
     cJSON_AddStringToObject(row, "device", xrad_context_device_name(ctx));
     cJSON_AddNumberToObject(row, "repeat", o->repeat);
     cJSON_AddNumberToObject(row, "time", t);
+    xrad_memory_stats mem;
+    xrad_context_get_memory(ctx, &mem);
+    cJSON_AddNumberToObject(row, "peak_gpu_mib", (double)mem.total_peak / 1048576.0);
     cJSON_AddItemToArray(rows, row);
-    *frame_ms = frame_median;
+    *out = (bench_point){
+        .frame_ms = frame_median,
+        .p95_ms = percentile(wall, o->repeat, 0.95),
+        .gpu_ms = gpu_median,
+        .nrmse = nrmse,
+        .peak_mib = (double)mem.total_peak / 1048576.0,
+        .hemicubes = work[0] / o->repeat,
+        .host_waits = work[1] / o->repeat,
+        .row = row,
+    };
 
     printf("%-28s %-12s %12.1f %12.1f %12.1f %10.1f %8u %7.1f %10.5f\n", path, method,
            frame_median, percentile(wall, o->repeat, 0.95), gpu_median, work[0] / o->repeat,
@@ -366,20 +391,27 @@ int cmd_bench(int argc, char **argv)
     for (int i = 0; i < o.scene_count && !st; i++) {
         const char *path = o.scenes[i];
         xrad_scene *scene = NULL;
-        if ((st = method_load_scene(path, &o.m, &scene, &err)))
+        method_settings settings = o.m;
+        if (o.sweep) {
+            st = bench_sweep(ctx, path, &o, &err);
+            continue;
+        }
+        if ((st = method_load_scene(path, &settings, &scene, &err)))
             break;
         float *ref = NULL;
         uint32_t rw = 0, rh = 0;
         char kind[32];
-        st = reference_image(ctx, path, scene, &o, o.time + o.repeat / o.fps, &ref, &rw, &rh,
-                             kind, sizeof(kind), &err);
+        st = bench_reference_image(ctx, path, scene, &o, o.time + o.repeat / o.fps, &ref, &rw,
+                                   &rh, kind, sizeof(kind), &err);
         char list[512];
         snprintf(list, sizeof(list), "%s", o.methods);
         double ms[5] = {0}; /* by xrad_method; 0 unused */
         for (char *save = NULL, *m = strtok_r(list, ",", &save); m && !st;
              m = strtok_r(NULL, ",", &save)) {
-            double f = 0;
-            st = bench_one(ctx, path, scene, m, &o, ref, rw, rh, kind, rows, &f, &err);
+            bench_point pt;
+            st = bench_one(ctx, path, scene, m, &settings, &o, ref, rw, rh, kind, rows, &pt,
+                           &err);
+            double f = pt.frame_ms;
             if (xrad_method_from_name(m) < 5)
                 ms[xrad_method_from_name(m)] = f;
         }

@@ -213,6 +213,7 @@ xrad_status method_load_scene(const char *path, method_settings *m, xrad_scene *
     xrad_quality q = {.solver = m->solver};
     xrad_scene_get_quality(*out, &q);
     if (!(st = command_line_quality(m, &q, err)) && !(st = xrad_quality_resolve(&q, err))) {
+        m->resolved = q;
         /* Only the quality fields come from q; the rest stays m's. */
         xrad_quality into = {.solver = m->solver};
         for (uint32_t i = 0; !st && i < xrad_setting_count(); i++) {

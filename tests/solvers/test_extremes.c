@@ -613,9 +613,9 @@ static void test_errors(xrad_context *ctx)
         {"{\"density\": 1e5, \"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5]}],"
          " \"objects\": []}",
          "density"},
-        {"{\"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5]}], \"objects\": [{\"name\":"
-         " \"o\", \"surfaces\": [{\"name\": \"q\", \"material\": \"m\", \"quad\": {\"origin\":"
-         " [1e10, 0, 0], \"u\": [1, 0, 0], \"v\": [0, 1, 0]}}]}]}",
+        {"{\"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5]}], \"objects\": ["
+         "{\"name\": \"o\", \"surfaces\": [{\"name\": \"q\", \"material\": \"m\", \"quad\":"
+         " {\"origin\": [1e10, 0, 0], \"u\": [1, 0, 0], \"v\": [0, 1, 0]}}]}]}",
          "origin"},
         {"{\"density\": 10000, \"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5]}],"
          " \"objects\": [{\"name\": \"o\", \"surfaces\": [{\"name\": \"q\", \"material\": \"m\","
@@ -624,8 +624,8 @@ static void test_errors(xrad_context *ctx)
         {"{\"quality\": {\"hemicube_res\": 33}, \"materials\": [{\"name\": \"m\", \"albedo\": [0.5,"
          " 0.5, 0.5]}], \"objects\": []}",
          "quality.hemicube_res"},
-        {"{\"quality\": {\"preset\": \"ultra\"}, \"materials\": [{\"name\": \"m\", \"albedo\": [0.5,"
-         " 0.5, 0.5]}], \"objects\": []}",
+        {"{\"quality\": {\"preset\": \"ultra\"}, \"materials\": [{\"name\": \"m\","
+         " \"albedo\": [0.5, 0.5, 0.5]}], \"objects\": []}",
          "quality.preset"},
         {"{\"quality\": {\"density_scale\": 100}, \"materials\": [{\"name\": \"m\", \"albedo\":"
          " [0.5, 0.5, 0.5]}], \"objects\": []}",
