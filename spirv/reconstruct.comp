@@ -129,6 +129,14 @@ void main()
         uint k = gl_GlobalInvocationID.x;
         if (k >= count)
             return;
+        // Fixed patches (the dynamic methods' M, and incremental's C) are
+        // removed again by their redistribution with the form factors as
+        // they are; scaled here, removal and insertion would differ and
+        // the difference would pile up frame after frame.
+        if (surfaces[shooters[k].surface].patches_s != 0u) {
+            norm[k] = 1.0;
+            return;
+        }
         float taken = 0.0;
         for (uint i = 0u; i < pc.element_count; i++)
             taken += elements[i].pos_area.w * ff[k * pc.element_count + i];
