@@ -21,7 +21,8 @@
  *     light and the slab element errors no worse than twice a plain room's
  *     at the same settings (touching and coplanar faces: reported);
  *   - a moving box that passes through a wall (incremental, cross);
- *   - 10,000 frames of animation (argument --long; suite "long");
+ *   - 10,000 frames of cross (argument --long; suite "long"): finite, and
+ *     its power against the bound reported (it drifts upward);
  *   - out-of-range input: XRAD_ERROR_INPUT naming the field, no crash.
  * fp16 against fp32 radiosity hemicubes: gather and cross run with both and
  * the test prints the error of each at the extremes (XRAD_TEST_VERBOSE=1
@@ -133,20 +134,34 @@ static void check_bound(xrad_context *ctx, xrad_solver *s, const char *what, boo
         for (size_t i = 0; i < tex; i++)
             bad += !isfinite(atlas[i]);
         CHECK(bad == 0, "%s: %u NaN or Inf values in B, Bu and the atlas", what, bad);
-        double power[3] = {0, 0, 0}, emitted[3] = {0, 0, 0}, rho = 0;
+        /* The power of B plus the ambient estimate of where the unshot
+         * Bu takes it (Cohen et al. 1988): a solver stopped early (the
+         * dynamic methods' frame_shots) holds negative unshot radiosity, the
+         * light a redistribution still has to take away, so B alone may
+         * stand above the solution it is heading to. */
+        double power[3] = {0, 0, 0}, emitted[3] = {0, 0, 0}, unshot[3] = {0, 0, 0}, rho = 0;
+        double area = 0, rho_area[3] = {0, 0, 0};
         for (uint32_t m = 0; m < scene->material_count; m++) {
             vec3 a = scene->materials[m].albedo;
             rho = fmax(rho, fmax(a.x, fmax(a.y, a.z)));
         }
         for (uint32_t i = 0; i < n; i++) {
             const element *el = &scene->elements[i];
-            vec3 e = scene->materials[scene->surfaces[el->surface].material].emission;
-            power[0] += el->area * b[i].x;
-            power[1] += el->area * b[i].y;
-            power[2] += el->area * b[i].z;
-            emitted[0] += el->area * e.x;
-            emitted[1] += el->area * e.y;
-            emitted[2] += el->area * e.z;
+            const material *mt = &scene->materials[scene->surfaces[el->surface].material];
+            const float *bv = &b[i].x, *uv = &bu[i].x;
+            double e[3] = {mt->emission.x, mt->emission.y, mt->emission.z};
+            double al[3] = {mt->albedo.x, mt->albedo.y, mt->albedo.z};
+            for (int c = 0; c < 3; c++) {
+                power[c] += el->area * bv[c];
+                unshot[c] += el->area * uv[c];
+                emitted[c] += el->area * e[c];
+                rho_area[c] += el->area * al[c];
+            }
+            area += el->area;
+        }
+        for (int c = 0; c < 3 && area > 0; c++) {
+            double mean_rho = rho_area[c] / area;
+            power[c] += unshot[c] * mean_rho / (1 - mean_rho);
         }
         if (getenv("XRAD_TEST_VERBOSE") || !bound)
             fprintf(stderr, "%s: power %.6g W, bound %.6g W (ratio %.4f)%s\n", what, power[0],
@@ -154,7 +169,9 @@ static void check_bound(xrad_context *ctx, xrad_solver *s, const char *what, boo
                     bound ? "" : " (reported)");
         for (int c = 0; bound && c < 3; c++)
             CHECK(power[c] <= 1.01 * emitted[c] / (1 - rho) && power[c] >= 0,
-                  "%s: channel %d: power %g W outside [0, 1.01 x %g / (1 - %g)]", what, c,
+                  "%s: channel %d: power (with the unshot's ambient estimate) %g W outside "
+                  "[0, 1.01 x %g / (1 - %g)]",
+                  what, c,
                   power[c], emitted[c], rho);
     }
     free(b);
@@ -591,7 +608,21 @@ static void test_through_wall(xrad_context *ctx)
 
 static void test_many_frames(xrad_context *ctx)
 {
-    xrad_scene *scene = scaled_room(1);
+    /* A coarse room and a box of 6 patches, so that 10,000 frames take
+     * minutes. */
+    text t = {0};
+    put(&t, "{\"unit\": \"m\", \"density\": 4, \"materials\": ["
+            "{\"name\": \"wall\", \"albedo\": [0.6, 0.5, 0.4]},"
+            "{\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [20, 20, 20]}],"
+            " \"objects\": [");
+    put_room(&t, "room", 0, 1, 0.3, "wall", "lamp");
+    put(&t, ", {\"name\": \"box\", \"dynamic\": true, \"cross_density\": 2, \"surfaces\":"
+            " [{\"name\": \"b\", \"material\": \"wall\", \"box\": {\"origin\": [0.3, 0, 0.35],"
+            " \"u\": [0.25, 0, 0], \"v\": [0, 0.4, 0], \"w\": [0, 0, 0.25]}}],"
+            " \"animation\": {\"keyframes\": [{\"time\": 0, \"translate\": [0, 0, 0]},"
+            " {\"time\": 1, \"translate\": [0.3, 0, 0]}]}}");
+    put_camera(&t, 1);
+    xrad_scene *scene = parse(&t, "many-frames.json");
     if (!scene)
         return;
     xrad_error err = {0};
@@ -604,10 +635,13 @@ static void test_many_frames(xrad_context *ctx)
     for (int f = 1; !st && f <= 10000; f++) {
         double phase = fmod(f / 30.0, 2.0);
         st = xrad_solver_advance(s, phase < 1 ? phase : 2 - phase, &err);
-        if (!st && f % 2000 == 0) {
+        if (!st && f % 1000 == 0) {
+            /* Finite always. The bound is reported: cross's redistribution
+             * gains a few percent of the power per thousand frames of this
+             * back-and-forth slide (README "Numerical extremes"). */
             char what[64];
             snprintf(what, sizeof(what), "10,000 frames, frame %d", f);
-            check_buffers(ctx, s, what);
+            check_bound(ctx, s, what, false);
         }
     }
     CHECK(st == XRAD_OK, "10,000 frames: %s", err.message);
