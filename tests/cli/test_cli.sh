@@ -128,5 +128,44 @@ expect_text "$tmp/err" "VK_ERROR_DEVICE_LOST" "the error is named"
 expect 2 "scene too big for the GPU" -- env XRAD_GPU_MEMORY_MIB=0.05 "$xrad" render "$tmp/tiny.json" --method progressive --quiet --exr "$tmp/f.exr"
 expect_text "$tmp/err" "needs .* MiB of GPU memory, but only" "needed and available are named"
 
+# Quality: presets and settings from the command line and the scene file,
+# named errors for bad values.
+expect 0 "preset draft" -- "$xrad" render "$tmp/tiny.json" --method progressive --preset draft --exr "$tmp/q.exr" --quiet
+expect 1 "odd hemicube resolution" -- "$xrad" render "$tmp/tiny.json" --method progressive --hemicube-res 33
+expect_text "$tmp/err" "hemicube_res" "the setting is named"
+expect 1 "unknown preset" -- "$xrad" render "$tmp/tiny.json" --method progressive --preset ultra
+expect_text "$tmp/err" "ultra" "the preset is named"
+expect 1 "unknown choice" -- "$xrad" render "$tmp/tiny.json" --method progressive --id-check fuzzy
+expect_text "$tmp/err" "neighbours|exact" "the choices are listed"
+sed 's/^{/{"quality": {"preset": "draft", "hemicube_res": 35},/' "$tmp/tiny.json" >"$tmp/badq.json"
+expect 1 "bad quality in a scene file" -- "$xrad" info "$tmp/badq.json" --no-gpu
+expect_text "$tmp/err" "quality.hemicube_res" "the scene field is named"
+expect 0 "info with GPU memory" -- "$xrad" info "$tmp/tiny.json" --method cross
+expect_text "$tmp/out" "redistribution" "memory by category"
+expect_text "$tmp/out" "render targets" "memory by category"
+
+# The sweep: a 2-point grid writes CSV, JSON and a well-formed SVG with a
+# Pareto front.
+expect 0 "sweep" -- "$xrad" bench "$tmp/tiny.json" --methods progressive --sweep grid --sweep-settings "hemicube_res=16,32" --repeat 1 --cache "$tmp/cache" --sweep-out "$tmp/sweep"
+for ext in csv json svg; do
+    checks=$((checks + 1))
+    [ -s "$tmp/sweep/tiny-progressive.$ext" ] || { fails=$((fails + 1)); echo "FAIL: no sweep $ext"; }
+done
+checks=$((checks + 1))
+python3 - "$tmp/sweep" <<'PY' || { fails=$((fails + 1)); echo "FAIL: sweep outputs"; }
+import csv, json, sys, xml.dom.minidom
+d = sys.argv[1]
+rows = list(csv.DictReader(open(d + "/tiny-progressive.csv")))
+assert len(rows) == 2, rows
+assert {r["hemicube_res"] for r in rows} == {"16", "32"}
+assert any(r["pareto"] == "1" for r in rows)
+assert all(float(r["peak_gpu_mib"]) > 0 and float(r["nrmse"]) >= 0 for r in rows)
+points = json.load(open(d + "/tiny-progressive.json"))["points"]
+assert len(points) == 2 and all("passes" in p and "settings" in p for p in points)
+xml.dom.minidom.parse(d + "/tiny-progressive.svg")
+PY
+expect 1 "sweep grid without settings" -- "$xrad" bench "$tmp/tiny.json" --methods progressive --sweep grid --cache "$tmp/cache"
+expect_text "$tmp/err" "sweep-settings" "the missing option is named"
+
 echo "$checks checks, $fails failed"
 [ "$fails" -eq 0 ]
