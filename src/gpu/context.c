@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "gpu/cmd.h"
 #include "gpu/driver_pin.h"
 #include "gpu/memory.h"
 
@@ -461,19 +462,9 @@ static xrad_status create_device(struct xrad_context *ctx, bool present, xrad_er
         return XRAD_ERROR_SYSTEM;
     vkGetDeviceQueue(ctx->device, family, 0, &ctx->queue);
 
-    if (f->timeline_semaphore) {
-        VkSemaphoreTypeCreateInfo type = {
-            .sType = VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO,
-            .semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE,
-            .initialValue = 0,
-        };
-        VkSemaphoreCreateInfo sem = {
-            .sType = VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO,
-            .pNext = &type,
-        };
-        if (VK_CHECK(ctx, err, vkCreateSemaphore(ctx->device, &sem, NULL, &ctx->timeline)))
-            return XRAD_ERROR_SYSTEM;
-    }
+    xrad_status s;
+    if (f->timeline_semaphore && (s = gpu_timeline_create(ctx, &ctx->timeline, err)))
+        return s;
     return gpu_memory_create(ctx, &ctx->mem, err);
 }
 
