@@ -158,6 +158,7 @@ xrad_status xrad_image_read_exr(const char *path, float **out, uint32_t *width, 
     if ((r = exr_get_scanlines_per_chunk(ctx, 0, &lines)))
         goto fail_px;
     exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+    float sink[4];
     bool have_pipe = false;
     int found = 0;
     for (int32_t y = dw.min.y; y <= dw.max.y; y += lines) {
@@ -179,7 +180,14 @@ xrad_status xrad_image_read_exr(const char *path, float **out, uint32_t *width, 
              * four-channel half unpacker returns half RGBA reversed (ABGR),
              * while three channels come back right. */
             if (off < 0 || off == 3 || ch->x_samples != 1 || ch->y_samples != 1) {
-                ch->decode_to_ptr = NULL;
+                /* Decoded into a sink, not skipped with NULL: OpenEXRCore
+                 * 3.1's specialised unpackers write through every channel's
+                 * pointer (a crafted file crashed it; tests/fuzz). */
+                ch->decode_to_ptr = (uint8_t *)sink;
+                ch->user_pixel_stride = 0;
+                ch->user_line_stride = 0;
+                ch->user_bytes_per_element = sizeof(float);
+                ch->user_data_type = EXR_PIXEL_FLOAT;
                 continue;
             }
             found |= 1 << off;
