@@ -9,7 +9,6 @@
 #include "gpu/cmd.h"
 #include "gpu/context.h"
 #include "passes/atlas_scatter.h"
-#include "passes/display.h"
 #include "scene/scene.h"
 #include "solvers/solver.h"
 
@@ -341,14 +340,7 @@ xrad_status scheduler_create(struct xrad_context *ctx, xrad_scene *scene,
         free(s);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "scheduler: pthread init failed");
     }
-    gpu_image_desc ad = {
-        .format = DISPLAY_ATLAS_FORMAT,
-        .width = scene->atlas_width ? scene->atlas_width : 1,
-        .height = scene->atlas_height ? scene->atlas_height : 1,
-        .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                 VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-        .category = GPU_MEM_RADIOSITY,
-    };
+    gpu_image_desc ad = gpu_scene_atlas_desc(scene);
     xrad_status st;
     for (int i = 0; i < 2; i++)
         if ((st = gpu_image_create(ctx, &ad, &s->atlas[i], err)) ||

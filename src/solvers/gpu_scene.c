@@ -193,6 +193,18 @@ static xrad_status init_atlas(struct xrad_context *ctx, gpu_scene *gs, xrad_erro
     return s;
 }
 
+gpu_image_desc gpu_scene_atlas_desc(const xrad_scene *scene)
+{
+    return (gpu_image_desc){
+        .format = VK_FORMAT_R32G32B32A32_SFLOAT,
+        .width = scene->atlas_width ? scene->atlas_width : 1,
+        .height = scene->atlas_height ? scene->atlas_height : 1,
+        .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
+                 VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
+        .category = GPU_MEM_RADIOSITY,
+    };
+}
+
 xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, double time,
                              gpu_scene *out, xrad_error *err)
 {
@@ -214,14 +226,7 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                     nv * sizeof(gpu_scene_vertex) +
                     (uint64_t)at_least_one(scene->atlas_width) *
                         at_least_one(scene->atlas_height) * 16;
-    gpu_image_desc ad = {
-        .format = VK_FORMAT_R32G32B32A32_SFLOAT,
-        .width = scene->atlas_width ? scene->atlas_width : 1,
-        .height = scene->atlas_height ? scene->atlas_height : 1,
-        .usage = VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_STORAGE_BIT |
-                 VK_IMAGE_USAGE_TRANSFER_DST_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
-        .category = GPU_MEM_RADIOSITY,
-    };
+    gpu_image_desc ad = gpu_scene_atlas_desc(scene);
     xrad_status s;
     if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "scene data", err)) ||
         (s = gpu_buffer_create(ctx, ns * sizeof(struct gpu_surface), storage, GPU_MEM_DEVICE,

@@ -58,6 +58,11 @@ typedef struct gpu_scene {
                                   patch_first */
 } gpu_scene;
 
+/* A radiosity atlas image of the scene's size (at least 1 x 1), RGBA32F,
+ * usable for scatter, sampling and copies: the gpu_scene's, and the
+ * scheduler's two display atlases. */
+gpu_image_desc gpu_scene_atlas_desc(const xrad_scene *scene);
+
 /* Uploads the scene posed at `time`, with B = Bu = E. */
 xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, double time,
                              gpu_scene *out, xrad_error *err);
