@@ -36,11 +36,17 @@
 // pass (spirv/shooting.glsl).
 //
 // Pairs (CROSS_PAIRS_*): where the solver keeps them, each (patch, static
-// element) pair's new-pose F and P are stored, and the next redistribution,
-// whose old pose this is, reads them instead of evaluating the old pose
-// again: the same numbers (the last frame's hemicubes, frames and receiver
-// points), so exactly what was inserted is removed (thesis 6.2), at half
-// the cost.
+// element) pair's new-pose F is stored, and the next redistribution, whose
+// old pose this is, reads it instead of testing visibility and evaluating
+// the form factor again: the same number (the last frame's ID hemicubes,
+// frames and receiver points), so the patch's light is removed through
+// exactly the form factor it was inserted with (thesis 6.2). P is not kept:
+// the old pose's back hemicubes are drawn again with the shot radiosity of
+// C in hand. Between two redistributions the progressive iterations change
+// what lies behind a patch (the floor it shadows darkens as its negative
+// unshot light is shot); a P kept from the last frame gave back more light
+// than the new pose took away, and the power crept up by about 10% per 1000
+// frames of a box sliding to and fro (tests/solvers/test_extremes.c).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 #include "radiosity.h"
@@ -64,7 +70,7 @@ layout(binding = CROSS_RECONSTRUCT_BINDING_IDS_OLD) uniform utexture2DArray ids_
 layout(binding = CROSS_RECONSTRUCT_BINDING_IDS_NEW) uniform utexture2DArray ids_new;
 layout(binding = CROSS_RECONSTRUCT_BINDING_BACK_OLD) uniform texture2DArray back_old;
 layout(binding = CROSS_RECONSTRUCT_BINDING_BACK_NEW) uniform texture2DArray back_new;
-layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PAIRS) buffer Pairs { vec4 pairs[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PAIRS) buffer Pairs { float pairs[]; };
 
 gpu_shooter frame(uint slot, uint table, uint p)
 {
@@ -218,21 +224,20 @@ void main()
         }
         uint pair = p * pc.element_count + e;
         if ((pc.pairs & CROSS_PAIRS_READ) != 0u) {
-            vec4 o = pairs[pair];
-            if (o.w > 0.0)
-                gathered += o.w * (o.xyz - values[p].shot.rgb);
+            float f_old = pairs[pair];
+            if (f_old > 0.0)
+                gathered += f_old * (back_old_projected(pc.old_slot, p, x, ne) - values[p].shot.rgb);
         } else if (patch_facing(pc.old_slot, p, x, ne, d, cosines, local) &&
                    shooting_visible(ids_old, pc.hemicube_res, pc.neighbours != 0u, local, p, id)) {
             float f_old = patch_form_factor(pc.old_slot, p, x, ne, d, cosines);
             gathered += f_old * (back_old_projected(pc.old_slot, p, x, ne) - values[p].shot.rgb);
         }
-        vec4 kept = vec4(0.0);
+        float kept = 0.0;
         if (patch_facing(pc.new_slot, p, x, ne, d, cosines, local) &&
             shooting_visible(ids_new, pc.hemicube_res, pc.neighbours != 0u, local, p, id)) {
             float f_new = patch_form_factor(pc.new_slot, p, x, ne, d, cosines);
-            vec3 projected = back_new_projected(pc.new_slot, p, x, ne);
-            gathered += f_new * (values[p].total.rgb - projected);
-            kept = vec4(projected, f_new);
+            gathered += f_new * (values[p].total.rgb - back_new_projected(pc.new_slot, p, x, ne));
+            kept = f_new;
         }
         if ((pc.pairs & CROSS_PAIRS_WRITE) != 0u)
             pairs[pair] = kept;

@@ -98,8 +98,8 @@ struct cross_update_push {
 #define CROSS_RECONSTRUCT_BINDING_PAIRS 12
 #define CROSS_RECONSTRUCT_BINDING_COUNT 13
 
-#define CROSS_PAIRS_READ 1u  /* old-pose terms from the pairs, not the old hemicubes */
-#define CROSS_PAIRS_WRITE 2u /* keep this redistribution's new-pose terms */
+#define CROSS_PAIRS_READ 1u  /* old-pose F from the pairs, not the old ID hemicubes */
+#define CROSS_PAIRS_WRITE 2u /* keep this redistribution's new-pose F */
 
 #define CROSS_RECONSTRUCT_GROUP 64u
 

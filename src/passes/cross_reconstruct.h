@@ -32,7 +32,7 @@ typedef struct cross_reconstruct_bindings {
     /* Per pose slot: ID hemicubes (R32_UINT array) and back hemicubes
      * (RGBA16F array), patch p in layers 5p..5p+4, SHADER_READ_ONLY_OPTIMAL. */
     VkImageView ids[2], back[2];
-    /* vec4[patch_count * element_count] (CROSS_RECONSTRUCT_BINDING_PAIRS);
+    /* float[patch_count * element_count] (CROSS_RECONSTRUCT_BINDING_PAIRS);
      * any storage buffer where the solver keeps none. */
     const gpu_buffer *pairs;
 } cross_reconstruct_bindings;

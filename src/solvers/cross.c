@@ -15,15 +15,18 @@
  *      radiosity hemicube at its coarse sample (the gather of R_g(C, M));
  *      a low-resolution shot radiosity + distance hemicube on its back,
  *      static geometry only (thesis 4.5.2). At the old pose the same ID and
- *      back hemicubes are needed: by default those of the last
- *      redistribution, whose new pose this is (desc.cross_recompute = 0:
- *      what was inserted is removed exactly, thesis 6.2, and each frame
- *      renders 3 hemicubes per patch instead of 5); with cross_recompute,
- *      or when there is no last redistribution at this pose, they are
- *      rendered first, before the objects move. Where memory allows (the
- *      pairs buffer, elements x patches), the last redistribution's
- *      new-pose F and P of every pair are kept too, and the old pose's
- *      terms are read from there instead of evaluated again.
+ *      back hemicubes are needed. The ID hemicubes are by default those of
+ *      the last redistribution, whose new pose this is (desc.cross_recompute
+ *      = 0: what was inserted is removed through the same form factors,
+ *      thesis 6.2, and each frame renders 4 hemicubes per patch instead of
+ *      5); with cross_recompute, or when there is no last redistribution at
+ *      this pose, they are rendered first, before the objects move. The
+ *      back hemicubes of the old pose are drawn again every time: what lies
+ *      behind a patch has been shot further since they were drawn, and the
+ *      light given back where the patch leaves must be that of now
+ *      (spirv/cross_reconstruct.comp). Where memory allows (the pairs
+ *      buffer, elements x patches), the last redistribution's new-pose F
+ *      of every pair is kept too and read instead of evaluated again.
  *   3. R_g(C, M): integrate the gather hemicubes; the elements of M take
  *      B = E + rho x (their surface's coarse samples, interpolated), Bu = 0
  *      (GATHERED), and T.total = area mean of B per patch (TOTAL).
@@ -84,7 +87,7 @@ typedef struct cross {
     gpu_buffer shot;          /* vec4[element_count]: B - Bu of C, 0 on M */
     gpu_buffer frames;        /* gpu_shooter[2 slots][3 tables][P], host-written */
     gpu_buffer quads;         /* struct cross_quad[2 slots][P], host-written */
-    gpu_buffer pairs;         /* vec4[P x element_count]: last new-pose F and P per pair;
+    gpu_buffer pairs;         /* float[P x element_count]: last new-pose F per pair;
                                  empty where that would exceed MAX_PAIR_BYTES */
     double diameter;          /* m, the scale of the hemicubes' near plane and distances,
                                  fixed at create (the posed scene's diameter changes) */
@@ -132,7 +135,7 @@ static double radiosity_bound(const xrad_scene *scene)
 
 static xrad_status create_pairs(xrad_solver *s, cross *c, xrad_error *err)
 {
-    uint64_t bytes = (uint64_t)c->P * s->gs.element_count * sizeof(vec4);
+    uint64_t bytes = (uint64_t)c->P * s->gs.element_count * sizeof(float);
     if (bytes > MAX_PAIR_BYTES || bytes > s->ctx->props.limits.maxStorageBufferRange)
         return XRAD_OK;
     return gpu_buffer_create(s->ctx, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
@@ -309,8 +312,25 @@ static void record_shot_atlas(xrad_solver *s, cross *c, VkCommandBuffer cmd)
                       VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
 }
 
-/* The ID hemicubes on the patches' fronts and the back hemicubes (static
- * geometry, shot radiosity) of slot `slot`, whose frames are written. */
+/* The back hemicubes (static geometry, shot radiosity) of slot `slot`,
+ * whose frames are written. */
+static void record_back(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot)
+{
+    const gpu_scene *gs = &s->gs;
+    gpu_timer_begin(s->timer, cmd, "cross.back");
+    hemicube_record(c->back[slot], cmd,
+                    &(hemicube_draw){.vertices = &gs->vertices,
+                                     .vertex_count = gs->static_vertex_count,
+                                     .frames = &c->frames,
+                                     .first = frames_first(c, slot, CROSS_FRAMES_BACK),
+                                     .count = c->P, .atlas = &gs->atlas,
+                                     .scale = (float)c->scale});
+    gpu_timer_end(s->timer, cmd);
+    s->stats.hemicubes += c->P;
+}
+
+/* The ID hemicubes on the patches' fronts and the back hemicubes of slot
+ * `slot`, whose frames are written. */
 static void record_pose_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot)
 {
     const gpu_scene *gs = &s->gs;
@@ -321,16 +341,8 @@ static void record_pose_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd,
                                      .first = frames_first(c, slot, CROSS_FRAMES_FRONT),
                                      .count = c->P});
     gpu_timer_end(s->timer, cmd);
-    gpu_timer_begin(s->timer, cmd, "cross.back");
-    hemicube_record(c->back[slot], cmd,
-                    &(hemicube_draw){.vertices = &gs->vertices,
-                                     .vertex_count = gs->static_vertex_count,
-                                     .frames = &c->frames,
-                                     .first = frames_first(c, slot, CROSS_FRAMES_BACK),
-                                     .count = c->P, .atlas = &gs->atlas,
-                                     .scale = (float)c->scale});
-    gpu_timer_end(s->timer, cmd);
-    s->stats.hemicubes += 2 * c->P;
+    s->stats.hemicubes += c->P;
+    record_back(s, c, cmd, slot);
 }
 
 static xrad_status run(xrad_solver *s, gpu_cmd *cmd, xrad_error *err)
@@ -356,8 +368,11 @@ static xrad_status render_old_pose(xrad_solver *s, cross *c, xrad_error *err)
 }
 
 /* The redistribution's first part: M's values leave the solution, the
- * new pose's front and back hemicubes. */
-static void record_update(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot)
+ * new pose's front and back hemicubes, and with `back_old` the old pose's
+ * back hemicubes again, with the shot radiosity of C in hand (the ones kept
+ * from the last redistribution show C as it was then). */
+static void record_update(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot,
+                          bool back_old)
 {
     uint32_t n = s->gs.element_count, P = c->P;
     full_barrier(cmd);
@@ -368,6 +383,8 @@ static void record_update(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_
     compute_barrier(cmd);
     record_shot_atlas(s, c, cmd);
     gpu_timer_end(s->timer, cmd);
+    if (back_old)
+        record_back(s, c, cmd, 1 - slot);
     record_pose_hemicubes(s, c, cmd, slot);
 }
 
@@ -427,7 +444,7 @@ static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, ui
  * per slice of the cross projection, each waited for, so that another
  * thread's work on the queue (a display) gets in between. */
 static xrad_status redistribute(xrad_solver *s, cross *c, uint32_t slot, uint32_t pairs,
-                                xrad_error *err)
+                                bool back_old, xrad_error *err)
 {
     uint32_t n = s->gs.element_count, slice = s->desc.slice_elements;
     gpu_cmd cmd;
@@ -435,7 +452,7 @@ static xrad_status redistribute(xrad_solver *s, cross *c, uint32_t slot, uint32_
     if (st)
         return st;
     gpu_timer_start(s->timer, cmd.cmd);
-    record_update(s, c, cmd.cmd, slot);
+    record_update(s, c, cmd.cmd, slot, back_old);
     if (slice) {
         if ((st = run(s, &cmd, err)) || (st = gpu_cmd_begin(s->ctx, &cmd, err)))
             return st;
@@ -461,8 +478,9 @@ static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
     xrad_status st;
     double t0 = solver_now_ms();
     if (c->P) {
-        /* The old pose's terms: kept per pair, or from the kept hemicubes,
-         * or (thesis, or nothing kept yet) rendered now. */
+        /* The old pose's form factors: kept per pair, or from the kept ID
+         * hemicubes, or (thesis, or nothing kept yet) rendered now; its back
+         * hemicubes are drawn again in any case. */
         bool reuse = c->cached && !s->desc.cross_recompute;
         uint32_t pairs = c->pairs.buffer ? CROSS_PAIRS_WRITE | (reuse ? CROSS_PAIRS_READ : 0) : 0;
         if (!reuse && (st = render_old_pose(s, c, err)))
@@ -472,7 +490,7 @@ static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
         uint32_t slot = 1 - c->slot;
         write_slot(s, c, slot, time);
         c->cached = false;
-        if ((st = redistribute(s, c, slot, pairs, err)))
+        if ((st = redistribute(s, c, slot, pairs, reuse, err)))
             return st;
         c->slot = slot;
         c->cached = true;
