@@ -132,8 +132,12 @@ void main()
         // Fixed patches (the dynamic methods' M, and incremental's C) are
         // removed again by their redistribution with the form factors as
         // they are; scaled here, removal and insertion would differ and
-        // the difference would pile up frame after frame.
-        if (surfaces[shooters[k].surface].patches_s != 0u) {
+        // the difference would pile up frame after frame. The first solve
+        // scales them too (pc.conserve_fixed): at albedo 0.999 their gain
+        // alone put cross's furnace 29% high, and what the first
+        // redistribution removes then differs from what was shot once, not
+        // every frame.
+        if (surfaces[shooters[k].surface].patches_s != 0u && pc.conserve_fixed == 0u) {
             norm[k] = 1.0;
             return;
         }

@@ -34,7 +34,8 @@ struct reconstruct_push {
     uint mode;            /* RECONSTRUCT_MODE_* */
     float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
     uint max_shooters;     /* rows of ff[] */
-    float pad2, pad3;
+    uint conserve_fixed;   /* 1: fixed patches are scaled too (a first solve) */
+    float pad3;
 };
 
 #endif

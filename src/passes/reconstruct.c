@@ -115,6 +115,7 @@ void reconstruct_record(reconstruct_pass *p, VkCommandBuffer cmd,
         .mode = params->conserve ? RECONSTRUCT_MODE_FF : RECONSTRUCT_MODE_DIRECT,
         .subdivide_ratio = (float)params->subdivide_ratio,
         .max_shooters = params->max_shooters,
+        .conserve_fixed = params->conserve_fixed ? 1u : 0u,
     };
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,
                             NULL);

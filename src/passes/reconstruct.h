@@ -54,6 +54,10 @@ typedef struct reconstruct_params {
     /* A shooter's receivers take at most its power (spirv/reconstruct.comp,
      * "Conservation"): three dispatches instead of one. */
     bool conserve;
+    /* Fixed patches (surfaces with patches_s) are scaled too: the dynamic
+     * methods' first solve, before any redistribution removes what they
+     * shot. Afterwards removal and insertion must use the same factors. */
+    bool conserve_fixed;
     uint32_t max_shooters;  /* the shooter table's size */
 } reconstruct_params;
 

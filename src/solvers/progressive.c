@@ -216,6 +216,7 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
          * scale) and let the select pass shoot again. */
         status->converged = 0;
     }
+    p->reconstruct_params.conserve_fixed = restart;
     uint32_t limit = max_shots ? max_shots : s->desc.max_iterations;
     uint32_t first = status->selections, first_patches = status->patches;
     uint32_t selected = 0;

@@ -24,8 +24,9 @@ xrad_status progressive_create(struct xrad_solver *s, progressive **out, xrad_er
 /* Accepts NULL and *p == NULL; sets *p to NULL. The GPU must be done with it. */
 void progressive_destroy(struct xrad_solver *s, progressive **p);
 
-/* restart: B = Bu = E, then shoot. Otherwise continue from the B and Bu in
- * hand, with the threshold still relative to the largest power of the
+/* restart: B = Bu = E, then shoot, fixed patches conserving too
+ * (reconstruct_params.conserve_fixed). Otherwise continue from the B and Bu
+ * in hand, with the threshold still relative to the largest power of the
  * last restart (the emitted power). Shoots until the largest unshot power
  * falls to the threshold, or max_shots selections (0: no limit but
  * desc.max_iterations in all since the restart). */
