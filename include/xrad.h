@@ -132,7 +132,9 @@ typedef void (*xrad_progress_fn)(void *user, const char *stage, double fraction)
  * in every field. */
 typedef struct xrad_reference_desc {
     double time;            /* s, scene time at which dynamic objects are posed; default 0 */
-    uint32_t rays;          /* visibility rays per element pair; default 16 */
+    uint32_t rays;          /* visibility is exact (polygon clipping); rays per element pair
+                               where clipping gives up (a shadow of too many pieces, a
+                               nearly edge-on occluder), rare; default 16 */
     double residual;        /* stop when, in every RGB channel, max |delta B| / max B of a
                                sweep < this; default 1e-6 */
     uint32_t max_sweeps;    /* Gauss-Seidel sweeps at most; default 100000 */

@@ -28,7 +28,7 @@ static void help(void)
            "  --repeat N         timed frames per scene and method; the median is reported [3]\n"
            "  --time T, --fps F  start pose (s) and frame rate of scene time [0, 30]\n"
            "  --width N, --height N   image size for NRMSE [the scene camera's]\n"
-           "  --reference-rays N CPU reference visibility rays [32]\n"
+           "  --reference-rays N CPU reference rays where clipping gives up [32]\n"
            "  --cache DIR        where reference images are kept [out/bench-cache]\n"
            "  --max-reference-elements N  above this element count the reference is a\n"
            "                     high-quality GPU gather (hemicube 128, 4x MSAA, threshold\n"
@@ -45,7 +45,8 @@ static void help(void)
            method_list());
     method_print_options();
     printf("\nReference images are cached in the cache directory under a name that hashes the\n"
-           "scene file, the reference settings, the image size and the pose's time.\n");
+           "scene file, the reference settings (and the reference solver's visibility\n"
+           "method), the image size and the pose's time.\n");
 }
 
 
@@ -136,7 +137,10 @@ xrad_status bench_reference_image(xrad_context *ctx, const char *path, const xra
     bool cpu = info.elements <= o->max_ref_elements;
     char settings[256];
     if (cpu)
-        snprintf(settings, sizeof(settings), "cpu-reference rays=%u residual=1e-7", o->ref_rays);
+        /* "visibility=clip": the exact visibility of the reference solver;
+         * images cached from its ray-estimated visibility are not reused. */
+        snprintf(settings, sizeof(settings), "cpu-reference rays=%u residual=1e-7 visibility=clip",
+                 o->ref_rays);
     else
         snprintf(settings, sizeof(settings), "gather res=128 msaa=4 threshold=1e-5");
     snprintf(kind, kind_n, "%s", cpu ? "cpu-reference" : "gather-high");

@@ -20,10 +20,7 @@ vec3 ref_polygon_newell(const vec3 *poly, int count)
     return n;
 }
 
-/* Sutherland-Hodgman clip of a polygon to n . (x - p) >= 0. A convex polygon
- * cut by one plane gains at most one vertex; any polygon at most doubles,
- * which is what `out` must hold. Returns the new count. */
-static int clip_above(vec3 p, vec3 n, const vec3 *in, int count, vec3 *out)
+int ref_polygon_clip(vec3 p, vec3 n, const vec3 *in, int count, vec3 *out)
 {
     int m = 0;
     for (int k = 0; k < count; k++) {
@@ -66,7 +63,7 @@ double ref_ff_point_polygon(vec3 p, vec3 n, const vec3 *poly, int count)
         return 0;
 
     vec3 clipped[2 * REF_POLY_MAX];
-    int m = clip_above(p, n, poly, count, clipped);
+    int m = ref_polygon_clip(p, n, poly, count, clipped);
     if (m < 3)
         return 0;
 
@@ -164,7 +161,7 @@ double ref_ff_area_polygon(const vec3 *recv, int recv_count, const vec3 *poly, i
     /* Receiver points behind the emitter's plane get nothing. */
     vec3 en = v3_norm(ref_polygon_newell(poly, count));
     vec3 part[2 * REF_POLY_MAX];
-    int m = clip_above(poly[0], en, recv, recv_count, part);
+    int m = ref_polygon_clip(poly[0], en, recv, recv_count, part);
     if (m < 3)
         return 0;
 

@@ -15,8 +15,9 @@
 /* math.h defines M_PI only outside strict C11. */
 #define REF_PI 3.14159265358979323846
 
-/* Most vertices a polygon handed to the kernels may have. */
-#define REF_POLY_MAX 16
+/* Most vertices a polygon handed to the kernels may have: room for the
+ * pieces that exact visibility (shadow.h) cuts a cell into. */
+#define REF_POLY_MAX 32
 
 /* Most Gauss-Legendre points per interval ref_gauss_legendre computes. */
 #define REF_GL_MAX 64
@@ -28,6 +29,12 @@
  * in its plane, a polygon entirely below the tangent plane, and a degenerate
  * polygon; otherwise a value in [0, 1]. `count` is 3..REF_POLY_MAX. */
 double ref_ff_point_polygon(vec3 p, vec3 n, const vec3 *poly, int count);
+
+/* Sutherland-Hodgman clip of polygon in[0..count-1] to the half-space
+ * n . (x - p) >= 0 into `out`; returns the new count. A convex polygon cut
+ * by one plane gains at most one vertex; any polygon at most doubles, which
+ * is what `out` must hold. */
+int ref_polygon_clip(vec3 p, vec3 n, const vec3 *in, int count, vec3 *out);
 
 /* Newell normal of a polygon (not normalised; its length is twice the area
  * of a planar polygon). */

@@ -2,31 +2,37 @@
  * Internals of the CPU reference solver (xrad_reference_solve), exposed for
  * its tests. The solver shares no radiosity code with the GPU path: form
  * factors come from the analytic point-to-polygon kernel (ff_kernel.h),
- * visibility from ray casting (raycast.h), and B from Gauss-Seidel on the
- * dense system B = E + rho F B (thesis eq. 2.2.2 with elements, 2.2.4).
+ * visibility from polygon clipping (shadow.h), and B from Gauss-Seidel on
+ * the dense system B = E + rho F B (thesis eq. 2.2.2 with elements, 2.2.4).
  *
  * Discretisation: element i receives at its sample point x_i (scene.h) with
  * its surface's normal; element j emits from its cell, the part of its
  * surface within half a sample spacing of its sample, clipped to the
- * surface. F_ij = F(x_i -> cell_j) * V_ij, where V_ij is the visible
- * fraction of `rays` segments from x_i to stratified points of cell_j,
- * each segment weighted by the form factor integrand at its end point.
+ * surface. F_ij is the kernel summed over the part of cell_j that x_i sees
+ * past the other quads, cut out exactly by clipping, so that the rows of F
+ * close in a closed scene. Where clipping gives up (more pieces than
+ * shadow.h allows, or an occluder's edge nearly in line with x_i), F_ij =
+ * F(x_i -> cell_j) * V_ij instead, where V_ij is the visible fraction of
+ * `rays` segments from x_i to stratified points of cell_j (raycast.h), each
+ * segment weighted by the form factor integrand at its end point.
  */
 #ifndef XRAD_REFERENCE_REFERENCE_H
 #define XRAD_REFERENCE_REFERENCE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "reference/raycast.h"
+#include "reference/shadow.h"
 #include "scene/scene.h"
 #include "xrad.h"
 
 /* The scene at one time, in world space, ready for form factors. */
 typedef struct ref_geometry {
     uint32_t element_count, surface_count;
-    uint32_t rays;         /* visibility rays per pair */
+    uint32_t rays;         /* visibility rays per pair where clipping gives up */
     double scale;          /* m, diagonal of the scene's bounding box */
-    double tol;            /* m, separation tolerance of the occluder culling */
+    double tol;            /* m, separation tolerance of occluder culling and clipping */
     ref_quad *quads;       /* per surface, world corners */
     uint32_t *surface_first, *surface_elements; /* per surface, its element range */
     uint32_t *surface_of;  /* per element */
@@ -50,14 +56,24 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
                                 ref_geometry **out, xrad_error *err);
 void ref_geometry_destroy(ref_geometry **geometry);
 
-/* Scratch entries ref_form_factor_row needs. */
-#define REF_ROW_SCRATCH(g) (2 * (size_t)(g)->surface_count)
+/* Working memory of ref_form_factor_row, one per thread: per surface an
+ * occluder candidate, its shadow cone and a candidate of one cell, and the
+ * visible pieces of one cell. */
+typedef struct ref_row_scratch {
+    uint32_t *cand, *cell_cand;
+    ref_cone *cone;
+    ref_pieces *pieces;
+} ref_row_scratch;
+
+/* Allocates scratch for g; false when out of memory (s is then finished). */
+bool ref_row_scratch_init(ref_row_scratch *s, const ref_geometry *g);
+void ref_row_scratch_finish(ref_row_scratch *s);
 
 /* Fills row[0..element_count-1] with F_ij for receiver i (0 for elements of
  * i's own surface and for cells that face away) and returns the row's sum.
- * `scratch` holds REF_ROW_SCRATCH(g) entries. Thread-safe for distinct rows
- * and scratch. */
-double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row, uint32_t *scratch);
+ * Thread-safe for distinct rows and scratch. */
+double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
+                           ref_row_scratch *scratch);
 
 /* The dense form factor matrix, row-major element_count^2 floats (malloc'd,
  * *F owns it), built with desc->threads threads (desc may be NULL). Fills

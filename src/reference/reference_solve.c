@@ -1,5 +1,6 @@
-/* The CPU reference solver: analytic form factors, ray-cast visibility,
- * Gauss-Seidel (thesis 2.2.1-2.2.2; reference.h). */
+/* The CPU reference solver: analytic form factors, visibility by polygon
+ * clipping (ray-cast where clipping gives up), Gauss-Seidel (thesis
+ * 2.2.1-2.2.2; reference.h). */
 #include "reference/reference.h"
 
 #include <math.h>
@@ -102,8 +103,10 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
     }
     g->scale = ns ? v3_len(v3_sub(hi, lo)) : 1;
     /* Occluder culling treats a quad within this of a visibility pyramid as
-     * touching it: far above the rounding of the plane tests (1e-16 of the
-     * scene), far below anything a ray could resolve. */
+     * touching it, and clipping a vertex within this of a shadow plane as on
+     * it: far above the rounding of the plane tests (1e-16 of the scene),
+     * far below any feature of a scene, so a form factor moves by about
+     * 1e-9 of itself at most. */
     g->tol = 1e-9 * g->scale;
 
     for (uint32_t e = 0; e < ne; e++) {
@@ -130,7 +133,8 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
     return XRAD_OK;
 }
 
-/* Visible fraction of F(x_i -> cell_j): rays from the origin of i to
+/* The fallback where clipping gives up (shadow.h): the visible fraction of
+ * F(x_i -> cell_j) estimated by rays from the origin of i to
  * stratified points of cell j, each weighted by the form factor integrand
  * there (thesis eq. 2.2.3: cos phi_i cos phi_j / r^2; the 1/pi and the
  * uniform area element cancel in the ratio). Weighting makes the estimate
@@ -164,12 +168,37 @@ static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const ui
     return total > 0 ? seen / total : (double)open / g->rays;
 }
 
-double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row, uint32_t *scratch)
+void ref_row_scratch_finish(ref_row_scratch *s)
+{
+    free(s->cand);
+    free(s->cell_cand);
+    free(s->cone);
+    free(s->pieces);
+    *s = (ref_row_scratch){0};
+}
+
+bool ref_row_scratch_init(ref_row_scratch *s, const ref_geometry *g)
+{
+    size_t ns = g->surface_count ? g->surface_count : 1;
+    s->cand = malloc(ns * sizeof *s->cand);
+    s->cell_cand = malloc(ns * sizeof *s->cell_cand);
+    s->cone = malloc(ns * sizeof *s->cone);
+    s->pieces = malloc(sizeof *s->pieces);
+    if (!s->cand || !s->cell_cand || !s->cone || !s->pieces) {
+        ref_row_scratch_finish(s);
+        return false;
+    }
+    return true;
+}
+
+double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
+                           ref_row_scratch *scratch)
 {
     memset(row, 0, (size_t)g->element_count * sizeof *row);
     uint32_t own = g->surface_of[i];
     vec3 p = g->recv[i], n = g->normal[i], o = g->origin[i];
-    uint32_t *cand = scratch, *cell_cand = scratch + g->surface_count;
+    uint32_t *cand = scratch->cand, *cell_cand = scratch->cell_cand;
+    ref_cone *cone = scratch->cone;
     double sum = 0;
     for (uint32_t S = 0; S < g->surface_count; S++) {
         const ref_quad *qs = &g->quads[S];
@@ -190,17 +219,28 @@ double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row, uint32
         for (uint32_t k = 0; k < g->surface_count; k++)
             if (k != own && k != S && ref_quad_may_block(&g->quads[k], o, qs->p, g->tol))
                 cand[nc++] = k;
+        /* Every cell of S lies in S's plane, so one cone per candidate
+         * serves them all. */
+        bool clip = true;
+        for (uint32_t c = 0; c < nc; c++)
+            if (!ref_cone_init(&cone[c], &g->quads[cand[c]], p, qs->p[0], qs->normal, g->tol))
+                clip = false;
         uint32_t first = g->surface_first[S], last = first + g->surface_elements[S];
         for (uint32_t j = first; j < last; j++) {
             double f = ref_ff_point_polygon(p, n, g->cell[j], 4);
             if (!(f > 0))
                 continue;
-            uint32_t m = 0;
-            for (uint32_t c = 0; c < nc; c++)
-                if (ref_quad_may_block(&g->quads[cand[c]], o, g->cell[j], g->tol))
-                    cell_cand[m++] = cand[c];
-            if (m)
-                f *= visibility(g, i, j, cell_cand, m);
+            if (nc && !(clip && ref_ff_point_visible(p, n, g->cell[j], 4, f, cone, nc, g->tol,
+                                                     scratch->pieces, &f))) {
+                /* Clipping gave up: rays, against the candidates that may
+                 * block this cell. */
+                uint32_t m = 0;
+                for (uint32_t c = 0; c < nc; c++)
+                    if (ref_quad_may_block(&g->quads[cand[c]], o, g->cell[j], g->tol))
+                        cell_cand[m++] = cand[c];
+                if (m)
+                    f *= visibility(g, i, j, cell_cand, m);
+            }
             row[j] = (float)f;
             sum += row[j];
         }
@@ -215,7 +255,7 @@ typedef struct build_job {
     const ref_geometry *g;
     float *F;
     double *row_sum;
-    uint32_t *scratch; /* REF_ROW_SCRATCH per thread */
+    ref_row_scratch *scratch; /* per thread */
     uint32_t next, done;
     pthread_mutex_t lock;
     xrad_progress_fn progress;
@@ -235,7 +275,7 @@ static void *build_rows(void *arg)
     build_job *job = w->job;
     const ref_geometry *g = job->g;
     uint32_t n = g->element_count;
-    uint32_t *scratch = job->scratch + REF_ROW_SCRATCH(g) * w->index;
+    ref_row_scratch *scratch = &job->scratch[w->index];
     for (;;) {
         pthread_mutex_lock(&job->lock);
         uint32_t i = job->next < n ? job->next++ : n;
@@ -310,10 +350,13 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
     build_job job = {.g = g, .progress = d.progress, .progress_user = d.progress_user};
     job.F = malloc(bytes ? bytes : 1);
     job.row_sum = malloc((n ? n : 1) * sizeof *job.row_sum);
-    job.scratch = malloc(REF_ROW_SCRATCH(g) * threads * sizeof *job.scratch + 1);
+    job.scratch = calloc(threads, sizeof *job.scratch);
     build_worker *workers = malloc(threads * sizeof *workers);
     pthread_t *tids = malloc(threads * sizeof *tids);
-    if (!job.F || !job.row_sum || !job.scratch || !workers || !tids) {
+    bool scratch_ok = job.scratch != NULL;
+    for (uint32_t t = 0; scratch_ok && t < threads; t++)
+        scratch_ok = ref_row_scratch_init(&job.scratch[t], g);
+    if (!job.F || !job.row_sum || !scratch_ok || !workers || !tids) {
         st = xrad_fail(err, XRAD_ERROR_SYSTEM,
                        "reference: out of memory for the %llu x %llu form factor matrix (%.1f MiB)",
                        (unsigned long long)n, (unsigned long long)n, bytes / 1048576.0);
@@ -351,6 +394,8 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
 done:
     free(job.F);
     free(job.row_sum);
+    for (uint32_t t = 0; job.scratch && t < threads; t++)
+        ref_row_scratch_finish(&job.scratch[t]);
     free(job.scratch);
     free(workers);
     free(tids);

@@ -1,6 +1,6 @@
 /*
  * Gather solver (src/solvers/gather.c, thesis Algorithm 4.1) against the
- * CPU reference solver (independent code: analytic form factors, ray-cast
+ * CPU reference solver (independent code: analytic form factors, exact
  * visibility, Gauss-Seidel) on cornell-lowq and cornell-box: the camera
  * images of the two solutions differ by an NRMSE below 0.01 (issue 3; the
  * goal is 0.005). Coarse hemicubes (16 x 16, 4 samples) keep the test to

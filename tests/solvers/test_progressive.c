@@ -1,7 +1,7 @@
 /*
  * Progressive refinement solver (src/solvers/progressive.c) on lavapipe:
  *  - it converges to the CPU reference solver (independent code: analytic
- *    form factors, ray-cast visibility, Gauss-Seidel) on cornell-lowq and
+ *    form factors, exact visibility, Gauss-Seidel) on cornell-lowq and
  *    cornell-box: NRMSE of the camera images below 0.01 (issue 3; the goal
  *    is 0.005, the thesis reached 0.0068);
  *  - the furnace: a closed box of albedo 0.9 emitting 1 everywhere
