@@ -121,7 +121,7 @@ void method_print_options(void)
     printf("  --bounces N           gather: fixed bounce count [0 = until --threshold]\n"
            "  --seed N              GPU: hemicube rotation seed [0]\n"
            "  --back-nearest        cross: nearest back hemicube samples (default bilinear)\n"
-           "  --cross-recompute     cross: render the old pose's hemicubes again each frame\n"
+           "  --cross-recompute     cross: render the old pose's ID hemicubes again each frame\n"
            "                        (thesis) instead of keeping the last frame's\n"
            "  --slice N             cross: elements per submission of the cross projection\n"
            "                        [0 = all]\n");
