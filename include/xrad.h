@@ -266,14 +266,6 @@ typedef struct xrad_solver_desc {
     /* cross: 1 samples the back hemicubes at the nearest texel instead of
      * bilinearly across the cube's face edges (thesis 4.5.2); default 0. */
     int back_nearest;
-    /* cross: 1 renders the old pose's ID hemicubes of every patch again
-     * each redistribution (the thesis; 5 hemicubes per patch and frame);
-     * default 0 keeps the last redistribution's new-pose ID hemicubes, and
-     * where memory allows each element-patch pair's form factor, as the
-     * next one's old pose, so that a patch's light is removed through the
-     * form factor it was inserted with (thesis 6.2; 4 hemicubes per patch
-     * and frame). The old pose's back hemicubes are drawn again in both. */
-    int cross_recompute;
     /* cross: elements per submission of the cross projection; the
      * redistribution's hemicubes and gather become submissions of their
      * own too, so that other work on the queue (a display thread's frames,

@@ -14,9 +14,11 @@
  *
  * Buffers:
  *   patches[p]       cross_patch   the fixed layout, what no pose changes
- *   values[p]        cross_value   shot radiosity before the reset, total after
+ *   values[p]        cross_value   total radiosity after R_g(C, M) and R_p(M, M)
  *   frames[...]      gpu_shooter   hemicube frames, written by the host per pose
- *   quads[...]       cross_quad    world corners of each patch, per pose
+ *   quads[p]         cross_quad    world corners of each patch at the pose
+ *   inserted[e]      vec4          what the last redistribution added to B of
+ *                                  static element e: R_p(M, C) + R_x(C, C)
  *   gathered[p]      vec4          R_g(C, M) sums (integrate pass output)
  *   surface_patch[s] uint          the patch (ci, cj) = (0, 0) of dynamic surface s
  */
@@ -35,16 +37,14 @@ struct cross_patch {
 };
 
 struct cross_value {
-    vec4 shot;  /* area mean of B - Bu before the redistribution (old pose) */
-    vec4 total; /* area mean of B after R_g(C, M) (new pose) */
+    vec4 total; /* area mean of B after R_g(C, M), then after R_p(M, M) */
 };
 
 struct cross_quad {
     vec4 corner[4]; /* world, at one pose, counter-clockwise seen from the front */
 };
 
-/* Frames buffer: per pose slot (2, alternating), three tables of
- * patch_count gpu_shooter each: front (patch centre, normal), back (same
+/* Frames buffer: three tables of patch_count gpu_shooter each: front (patch centre, normal), back (same
  * centre, normal reversed: sees what lies behind the patch) and gather
  * (coarse sample, normal). */
 #define CROSS_FRAMES_FRONT 0u
@@ -53,11 +53,10 @@ struct cross_quad {
 #define CROSS_FRAME_TABLES 3u
 
 /* cross_update.comp modes */
-#define CROSS_UPDATE_SHOT 0u      /* per patch: values.shot = mean(B - Bu) */
-#define CROSS_UPDATE_RESET 1u     /* per element of M: B = Bu = E */
-#define CROSS_UPDATE_SHOT_C 2u    /* per element: out = B - Bu on C, 0 on M (for the atlas) */
-#define CROSS_UPDATE_GATHERED 3u  /* per element of M: B = E + rho x gathered (interpolated), Bu = 0 */
-#define CROSS_UPDATE_TOTAL 4u     /* per patch: values.total = mean(B) */
+#define CROSS_UPDATE_RESET 0u     /* per element of M: B = E, Bu = 0 */
+#define CROSS_UPDATE_SHOT_C 1u    /* per element: out = B - Bu on C, 0 on M (for the atlas) */
+#define CROSS_UPDATE_GATHERED 2u  /* per element of M: B = E + rho x gathered (interpolated), Bu = 0 */
+#define CROSS_UPDATE_TOTAL 3u     /* per patch: values.total = mean(B) */
 
 #define CROSS_UPDATE_BINDING_SURFACES 0
 #define CROSS_UPDATE_BINDING_ELEMENTS 1
@@ -88,18 +87,14 @@ struct cross_update_push {
 #define CROSS_RECONSTRUCT_BINDING_VALUES 5
 #define CROSS_RECONSTRUCT_BINDING_FRAMES 6
 #define CROSS_RECONSTRUCT_BINDING_QUADS 7
-#define CROSS_RECONSTRUCT_BINDING_IDS_OLD 8   /* R32_UINT array, patch p in layers p*5.. */
-#define CROSS_RECONSTRUCT_BINDING_IDS_NEW 9
-#define CROSS_RECONSTRUCT_BINDING_BACK_OLD 10 /* RGBA16F array: shot radiosity x scale, distance */
-#define CROSS_RECONSTRUCT_BINDING_BACK_NEW 11
-/* vec4[patch_count * element_count], pair (p, e) at p * element_count + e:
- * the new-pose terms of the last redistribution, xyz = P(C, s', e), w =
- * F_new (0 where e did not see the patch); read back as the old pose's. */
-#define CROSS_RECONSTRUCT_BINDING_PAIRS 12
-#define CROSS_RECONSTRUCT_BINDING_COUNT 13
+#define CROSS_RECONSTRUCT_BINDING_IDS 8  /* R32_UINT array, patch p in layers p*5.. */
+#define CROSS_RECONSTRUCT_BINDING_BACK 9 /* RGBA16F array: shot radiosity x scale, distance */
+#define CROSS_RECONSTRUCT_BINDING_INSERTED 10 /* vec4[element_count] */
+#define CROSS_RECONSTRUCT_BINDING_COUNT 11
 
-#define CROSS_PAIRS_READ 1u  /* old-pose F from the pairs, not the old ID hemicubes */
-#define CROSS_PAIRS_WRITE 2u /* keep this redistribution's new-pose F */
+/* cross_reconstruct.comp phases */
+#define CROSS_RECONSTRUCT_M 0u /* elements of M: R_p(M, M) */
+#define CROSS_RECONSTRUCT_C 1u /* elements of C: R_p(M, C) + R_x(C, C) replace the last ones */
 
 #define CROSS_RECONSTRUCT_GROUP 64u
 
@@ -110,16 +105,14 @@ struct cross_reconstruct_push {
     uint back_res;         /* back hemicubes */
     uint grid;             /* PROJECTEDRADIOSITY rays per side (thesis 4.5.3 gridSize) */
     uint bilinear;         /* 1: back hemicubes filtered bilinearly across face edges */
-    uint old_slot;         /* pose slot (0, 1) of the old pose in frames and quads */
-    uint new_slot;         /* and of the new pose */
+    uint phase;            /* CROSS_RECONSTRUCT_M or _C */
+    uint neighbours;       /* 1: nearest-texel visibility check (thesis 4.3.3) */
     float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
     float inv_scale;       /* 1 / the back hemicubes' radiosity scale */
     float diameter;        /* m: back hemicube alpha x this = distance */
-    uint pairs;            /* CROSS_PAIRS_* */
     uint first;            /* elements [first, first + count) of this dispatch */
     uint count;
-    uint neighbours;       /* 1: nearest-texel visibility check (thesis 4.3.3) */
-    uint pad0;
+    uint pad0, pad1, pad2;
 };
 
 #endif

@@ -1,10 +1,10 @@
 #version 450
 // Cross redistribution bookkeeping (src/passes/cross_update.c; thesis
-// Algorithm 4.4 lines 4-5 and 12-14, Algorithm 4.5 GATHERRADIOSITY), one
+// Algorithm 4.4 lines 5 and 12-14, Algorithm 4.5 GATHERRADIOSITY), one
 // mode per dispatch (spirv/cross_shared.h):
-//  SHOT      per patch of M: the shooter table T gets the area mean of the
-//            shot radiosity B - Bu, before the reset (line 4);
-//  RESET     per element of M: B = Bu = E (line 5);
+//  RESET     per element of M: B = E, Bu = 0 (line 5; M's emission
+//            reaches C through the patches' totals, R_p(M, C), never
+//            through progressive shots, src/solvers/cross.c);
 //  SHOT_C    per element: B - Bu on C and 0 on M, the values the radiosity
 //            hemicubes see (R_g(C, M) gathers shot radiosity of C alone;
 //            M occludes but adds nothing, that is R_p(M, M));
@@ -14,6 +14,8 @@
 //            next, so nothing is left unshot);
 //  TOTAL     per patch of M: the area mean of B, what the patch shoots
 //            (line 13: T updated with B_s).
+// The shot radiosity B - Bu of M before the reset (line 4) is not needed:
+// what M gave C last time is kept per element (cross_reconstruct.comp).
 #extension GL_GOOGLE_include_directive : require
 #include "radiosity.h"
 #include "cross_shared.h"
@@ -53,8 +55,8 @@ float bracket(float s, uint n, out uint c0)
     return clamp((s - a) / (b - a), 0.0, 1.0);
 }
 
-// Area mean over the patch's elements of B - Bu (shot) or B.
-vec3 patch_mean(cross_patch p, bool shot)
+// Area mean of B over the patch's elements.
+vec3 patch_mean(cross_patch p)
 {
     gpu_surface sf = surfaces[p.surface];
     vec3 sum = vec3(0.0);
@@ -63,8 +65,7 @@ vec3 patch_mean(cross_patch p, bool shot)
         for (uint i = p.i0; i <= p.i1; i++) {
             uint e = sf.first_element + j * sf.nu + i;
             float a = elements[e].pos_area.w;
-            vec3 b = B[e].rgb;
-            sum += (shot ? b - Bu[e].rgb : b) * a;
+            sum += B[e].rgb * a;
             area += a;
         }
     }
@@ -76,12 +77,8 @@ void main()
     uint k = gl_GlobalInvocationID.x;
     if (k >= pc.count)
         return;
-    if (pc.mode == CROSS_UPDATE_SHOT) {
-        values[k].shot = vec4(patch_mean(patches[k], true), 0.0);
-        return;
-    }
     if (pc.mode == CROSS_UPDATE_TOTAL) {
-        values[k].total = vec4(patch_mean(patches[k], false), 0.0);
+        values[k].total = vec4(patch_mean(patches[k]), 0.0);
         return;
     }
     gpu_surface sf = surfaces[elements[k].surface];
@@ -94,7 +91,7 @@ void main()
     gpu_material m = materials[sf.material];
     if (pc.mode == CROSS_UPDATE_RESET) {
         B[k] = vec4(m.emission.rgb, 0.0);
-        Bu[k] = vec4(m.emission.rgb, 0.0);
+        Bu[k] = vec4(0.0);
         return;
     }
     // GATHERED: the element's sample parameters (i / (nu - 1), j / (nv - 1),

@@ -121,8 +121,6 @@ void method_print_options(void)
     printf("  --bounces N           gather: fixed bounce count [0 = until --threshold]\n"
            "  --seed N              GPU: hemicube rotation seed [0]\n"
            "  --back-nearest        cross: nearest back hemicube samples (default bilinear)\n"
-           "  --cross-recompute     cross: render the old pose's ID hemicubes again each frame\n"
-           "                        (thesis) instead of keeping the last frame's\n"
            "  --slice N             cross: elements per submission of the cross projection\n"
            "                        [0 = all]\n");
 }
@@ -172,8 +170,6 @@ int method_solver_option(cli_args *a, const char *opt, method_settings *m)
         cli_uint(a, 0, UINT32_MAX, &d->seed);
     } else if (!strcmp(opt, "back-nearest")) {
         d->back_nearest = 1;
-    } else if (!strcmp(opt, "cross-recompute")) {
-        d->cross_recompute = 1;
     } else if (!strcmp(opt, "slice")) {
         cli_uint(a, 0, UINT32_MAX, &d->slice_elements);
     } else {

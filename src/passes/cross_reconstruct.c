@@ -8,7 +8,7 @@
 #include "gpu/kernel.h"
 
 struct cross_reconstruct_pass {
-    gpu_kernel kernel; /* set k: new pose in slot k */
+    gpu_kernel kernel;
 };
 
 xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,
@@ -20,7 +20,7 @@ xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "cross reconstruct pass: out of host memory");
     VkDescriptorType types[CROSS_RECONSTRUCT_BINDING_COUNT];
     for (uint32_t b = 0; b < CROSS_RECONSTRUCT_BINDING_COUNT; b++)
-        types[b] = b >= CROSS_RECONSTRUCT_BINDING_IDS_OLD && b <= CROSS_RECONSTRUCT_BINDING_BACK_NEW
+        types[b] = b == CROSS_RECONSTRUCT_BINDING_IDS || b == CROSS_RECONSTRUCT_BINDING_BACK
                        ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE
                        : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     gpu_kernel_desc d = {
@@ -28,7 +28,7 @@ xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct
         .spv_bytes = sizeof(cross_reconstruct_comp_spv),
         .types = types,
         .binding_count = CROSS_RECONSTRUCT_BINDING_COUNT,
-        .set_count = 2,
+        .set_count = 1,
         .push_bytes = sizeof(struct cross_reconstruct_push),
         .name = "cross reconstruct pass",
     };
@@ -53,24 +53,20 @@ void cross_reconstruct_destroy(struct xrad_context *ctx, cross_reconstruct_pass 
 void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *p,
                             const cross_reconstruct_bindings *b)
 {
-    for (uint32_t k = 0; k < 2; k++) {
-        gpu_kernel_resource r[CROSS_RECONSTRUCT_BINDING_COUNT] = {
-            [CROSS_RECONSTRUCT_BINDING_SURFACES] = {b->surfaces, 0},
-            [CROSS_RECONSTRUCT_BINDING_ELEMENTS] = {b->elements, 0},
-            [CROSS_RECONSTRUCT_BINDING_MATERIALS] = {b->materials, 0},
-            [CROSS_RECONSTRUCT_BINDING_B] = {b->B, 0},
-            [CROSS_RECONSTRUCT_BINDING_BU] = {b->Bu, 0},
-            [CROSS_RECONSTRUCT_BINDING_VALUES] = {b->values, 0},
-            [CROSS_RECONSTRUCT_BINDING_FRAMES] = {b->frames, 0},
-            [CROSS_RECONSTRUCT_BINDING_QUADS] = {b->quads, 0},
-            [CROSS_RECONSTRUCT_BINDING_IDS_OLD] = {NULL, b->ids[1 - k]},
-            [CROSS_RECONSTRUCT_BINDING_IDS_NEW] = {NULL, b->ids[k]},
-            [CROSS_RECONSTRUCT_BINDING_BACK_OLD] = {NULL, b->back[1 - k]},
-            [CROSS_RECONSTRUCT_BINDING_BACK_NEW] = {NULL, b->back[k]},
-            [CROSS_RECONSTRUCT_BINDING_PAIRS] = {b->pairs, 0},
-        };
-        gpu_kernel_bind(ctx, &p->kernel, k, r);
-    }
+    gpu_kernel_resource r[CROSS_RECONSTRUCT_BINDING_COUNT] = {
+        [CROSS_RECONSTRUCT_BINDING_SURFACES] = {b->surfaces, 0},
+        [CROSS_RECONSTRUCT_BINDING_ELEMENTS] = {b->elements, 0},
+        [CROSS_RECONSTRUCT_BINDING_MATERIALS] = {b->materials, 0},
+        [CROSS_RECONSTRUCT_BINDING_B] = {b->B, 0},
+        [CROSS_RECONSTRUCT_BINDING_BU] = {b->Bu, 0},
+        [CROSS_RECONSTRUCT_BINDING_VALUES] = {b->values, 0},
+        [CROSS_RECONSTRUCT_BINDING_FRAMES] = {b->frames, 0},
+        [CROSS_RECONSTRUCT_BINDING_QUADS] = {b->quads, 0},
+        [CROSS_RECONSTRUCT_BINDING_IDS] = {NULL, b->ids},
+        [CROSS_RECONSTRUCT_BINDING_BACK] = {NULL, b->back},
+        [CROSS_RECONSTRUCT_BINDING_INSERTED] = {b->inserted, 0},
+    };
+    gpu_kernel_bind(ctx, &p->kernel, 0, r);
 }
 
 void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
@@ -83,16 +79,13 @@ void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
         .back_res = q->back_res,
         .grid = q->grid,
         .bilinear = q->bilinear ? 1u : 0u,
-        .old_slot = 1u - q->new_slot,
-        .new_slot = q->new_slot,
+        .phase = q->phase,
+        .neighbours = q->exact_texel_only ? 0u : 1u,
         .subdivide_ratio = (float)q->subdivide_ratio,
         .inv_scale = (float)(1.0 / q->back_scale),
         .diameter = (float)q->diameter,
-        .pairs = q->pairs,
         .first = q->first,
         .count = q->count ? q->count : q->element_count - q->first,
-        .neighbours = q->exact_texel_only ? 0u : 1u,
     };
-    gpu_kernel_dispatch(&p->kernel, cmd, q->new_slot, &push, push.count,
-                        CROSS_RECONSTRUCT_GROUP);
+    gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, push.count, CROSS_RECONSTRUCT_GROUP);
 }

@@ -1,13 +1,12 @@
 /*
  * Cross reconstruct pass (DESIGN.md "GPU passes", "Cross-project"; thesis
  * Algorithm 4.4 lines 15-20 and Algorithm 4.5): one compute invocation per
- * element, looping over every patch of the dynamic set M. Elements of M
- * receive the patches' total radiosity through the new-pose ID hemicubes
- * (R_p(M, M) by reshooting); elements of C receive eq. 3.3.1, R_p(M, C) +
- * R_x(C, C), with PROJECTEDRADIOSITY over a grid x grid ray grid
- * REPROJECTed through the back hemicubes (spirv/cross_reconstruct.comp
- * says how). Two descriptor sets, one per pose slot of the new pose: set k
- * reads slot k's hemicubes as the new pose and slot 1 - k's as the old.
+ * element, looping over every patch of the dynamic set M, in two phases.
+ * Elements of M receive the patches' total radiosity through the ID
+ * hemicubes (R_p(M, M) by reshooting); elements of C receive eq. 3.3.1,
+ * R_p(M, C) + R_x(C, C), with PROJECTEDRADIOSITY over a grid x grid ray
+ * grid REPROJECTed through the back hemicubes, in place of what the last
+ * redistribution gave them (spirv/cross_reconstruct.comp says how).
  */
 #ifndef XRAD_PASSES_CROSS_RECONSTRUCT_H
 #define XRAD_PASSES_CROSS_RECONSTRUCT_H
@@ -24,29 +23,27 @@ struct xrad_context;
 typedef struct cross_reconstruct_pass cross_reconstruct_pass;
 
 typedef struct cross_reconstruct_bindings {
-    const gpu_buffer *surfaces, *elements, *materials; /* spirv/radiosity.h, new pose */
+    const gpu_buffer *surfaces, *elements, *materials; /* spirv/radiosity.h, at the pose */
     const gpu_buffer *B, *Bu;                          /* vec4[element_count], updated */
     const gpu_buffer *values;                          /* struct cross_value[patch_count] */
     const gpu_buffer *frames;                          /* gpu_shooter, spirv/cross_shared.h */
-    const gpu_buffer *quads;                           /* struct cross_quad[2 * patch_count] */
-    /* Per pose slot: ID hemicubes (R32_UINT array) and back hemicubes
-     * (RGBA16F array), patch p in layers 5p..5p+4, SHADER_READ_ONLY_OPTIMAL. */
-    VkImageView ids[2], back[2];
-    /* float[patch_count * element_count] (CROSS_RECONSTRUCT_BINDING_PAIRS);
-     * any storage buffer where the solver keeps none. */
-    const gpu_buffer *pairs;
+    const gpu_buffer *quads;                           /* struct cross_quad[patch_count] */
+    /* ID hemicubes (R32_UINT array) and back hemicubes (RGBA16F array),
+     * patch p in layers 5p..5p+4, SHADER_READ_ONLY_OPTIMAL. */
+    VkImageView ids, back;
+    /* vec4[element_count]: what the last phase C added, zeroed at create. */
+    const gpu_buffer *inserted;
 } cross_reconstruct_bindings;
 
 typedef struct cross_reconstruct_params {
+    uint32_t phase; /* CROSS_RECONSTRUCT_M or CROSS_RECONSTRUCT_C */
     uint32_t element_count, patch_count;
     uint32_t hemicube_res, back_res;
     uint32_t grid;          /* PROJECTEDRADIOSITY rays per side */
     bool bilinear;          /* back hemicubes filtered across face edges */
-    uint32_t new_slot;      /* pose slot of the new pose; the old one is 1 - new_slot */
     double subdivide_ratio; /* exact form factor where A_s / r^2 exceeds it */
     double back_scale;      /* the back hemicubes hold shot radiosity x this */
     double diameter;        /* m, the back hemicubes' alpha x this = distance */
-    uint32_t pairs;         /* CROSS_PAIRS_READ | CROSS_PAIRS_WRITE */
     /* Elements [first, first + count) (count 0: all): a redistribution
      * may be cut into several submissions. */
     uint32_t first, count;
@@ -58,7 +55,7 @@ xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct
 /* Accepts NULL; sets *pass to NULL. The GPU must be done with it. */
 void cross_reconstruct_destroy(struct xrad_context *ctx, cross_reconstruct_pass **pass);
 
-/* Writes both sets. No recording that uses the pass may be pending. */
+/* Writes the set. No recording that uses the pass may be pending. */
 void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *pass,
                             const cross_reconstruct_bindings *b);
 

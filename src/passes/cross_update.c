@@ -68,7 +68,7 @@ void cross_update_bind(struct xrad_context *ctx, cross_update_pass *p,
 void cross_update_record(cross_update_pass *p, VkCommandBuffer cmd, uint32_t mode,
                          uint32_t patch_count, uint32_t element_count)
 {
-    bool per_patch = mode == CROSS_UPDATE_SHOT || mode == CROSS_UPDATE_TOTAL;
+    bool per_patch = mode == CROSS_UPDATE_TOTAL;
     struct cross_update_push push = {
         .mode = mode,
         .count = per_patch ? patch_count : element_count,

@@ -1,11 +1,11 @@
 /*
- * Cross update pass (thesis Algorithm 4.4 lines 4-5 and 12-14, Algorithm
+ * Cross update pass (thesis Algorithm 4.4 lines 5 and 12-14, Algorithm
  * 4.5 GATHERRADIOSITY): the bookkeeping of one redistribution on the
  * patches and elements of the dynamic set M, one compute dispatch per step
  * (modes in spirv/cross_shared.h, what each does in spirv/
- * cross_update.comp): capture the patches' shot radiosity, reset M to its
- * emission, write the shot radiosity of C for the hemicubes, set M from
- * the gathered sums, and take the patches' total radiosity.
+ * cross_update.comp): reset M to its emission, write the shot radiosity
+ * of C for the hemicubes, set M from the gathered sums, and take the
+ * patches' total radiosity.
  */
 #ifndef XRAD_PASSES_CROSS_UPDATE_H
 #define XRAD_PASSES_CROSS_UPDATE_H

@@ -1,45 +1,49 @@
 /*
  * Cross redistribution radiosity (thesis 3.3 and 4.5, Algorithms 4.4 and
- * 4.5; DESIGN.md "CRR, one redistribution"). The first solve is
- * progressive refinement; every advance moves the dynamic set M from the
- * pose in hand to a new one in one redistribution that renders hemicubes
- * for the patches of M only, then continues with progressive iterations
- * for the unshot radiosity it created (thesis 4.5.3).
+ * 4.5; DESIGN.md "CRR, one redistribution"). Every redistribution puts
+ * the dynamic set M at the pose in hand, rendering hemicubes for the
+ * patches of M only, and the progressive iterations after it shoot the
+ * unshot radiosity it created (thesis 4.5.3).
  *
- * One redistribution, in one command buffer (thesis order, DESIGN.md):
+ * One redistribution, in one command buffer:
  *
- *   1. T.shot = area mean of B - Bu per patch of M (cross_update SHOT);
- *      the atlas gets B - Bu of C, 0 on M (SHOT_C + atlas scatter); M is
- *      reset to its emission (RESET).
- *   2. Per patch, at the new pose: an ID hemicube on its front; a shot
- *      radiosity hemicube at its coarse sample (the gather of R_g(C, M));
- *      a low-resolution shot radiosity + distance hemicube on its back,
- *      static geometry only (thesis 4.5.2). At the old pose the same ID and
- *      back hemicubes are needed. The ID hemicubes are by default those of
- *      the last redistribution, whose new pose this is (desc.cross_recompute
- *      = 0: what was inserted is removed through the same form factors,
- *      thesis 6.2, and each frame renders 4 hemicubes per patch instead of
- *      5); with cross_recompute, or when there is no last redistribution at
- *      this pose, they are rendered first, before the objects move. The
- *      back hemicubes of the old pose are drawn again every time: what lies
- *      behind a patch has been shot further since they were drawn, and the
- *      light given back where the patch leaves must be that of now
- *      (spirv/cross_reconstruct.comp). Where memory allows (the pairs
- *      buffer, elements x patches), the last redistribution's new-pose F
- *      of every pair is kept too and read instead of evaluated again.
+ *   1. M is reset to its emission with nothing unshot (RESET); the atlas
+ *      gets B - Bu of C, 0 on M (SHOT_C + atlas scatter).
+ *   2. Per patch: an ID hemicube on its front; a shot radiosity hemicube at
+ *      its coarse sample (the gather of R_g(C, M)); a low-resolution shot
+ *      radiosity + distance hemicube on its back, static geometry only
+ *      (thesis 4.5.2).
  *   3. R_g(C, M): integrate the gather hemicubes; the elements of M take
- *      B = E + rho x (their surface's coarse samples, interpolated), Bu = 0
+ *      B = E + rho x (their surface's coarse samples, interpolated)
  *      (GATHERED), and T.total = area mean of B per patch (TOTAL).
- *   4-5. R_p(M, M) and R_p(M, C) + R_x(C, C) in one pass (cross_reconstruct).
- *   6. Progressive iterations (solvers/progressive.h), desc.frame_shots.
- *      They shoot the surfaces of M with the same fixed patches and
- *      hemicube rotations (dynamic_patches_fix), so that what step 5
- *      removes next frame is, block for block, what was shot.
+ *   4. R_p(M, M) into B of M, and TOTAL again: what M shoots to C holds
+ *      one bounce inside M.
+ *   5. R_p(M, C) + R_x(C, C): every element of C gets the new pose's terms
+ *      of eq. 3.3.1 in place of the ones the last redistribution gave it,
+ *      which each element keeps (cross_reconstruct.comp): the old pose's
+ *      terms are removed exactly as they were inserted.
+ *   6. Progressive iterations (solvers/progressive.h), desc.frame_shots,
+ *      on C alone: their hemicubes do not draw M, and M shoots nothing in
+ *      them (its light is in its patches' totals, step 5).
  *
- * The old and new pose's hemicubes live in two slots that alternate: slot
- * `slot` holds the pose in hand. B^s of C does not change within a
- * redistribution (thesis 3.3.4): everything between step 1 and step 5 is
- * one submission with nothing else in it.
+ * Why step 6 leaves M out (thesis 3.3.4: "if the shot radiosity B^s
+ * changes (for a patch in C) in between the redistribution iterations,
+ * this change is not negated thus introducing error which accumulates";
+ * the thesis avoids it by removing M before each progressive iteration and
+ * inserting it after, and finds that too costly): with M in the shots'
+ * hemicubes, light shot between two redistributions is blocked by the ID
+ * hemicube at the shooter, while the next redistribution gives back what
+ * the cross projection says M blocked of it. The two differ by their
+ * discretisation, and on a box sliding to and fro for 10,000 frames the
+ * power rose to 1.11 times the bound E / (1 - rho). Here the progressive
+ * iterations solve C alone, and M enters only as the source X of step 5,
+ * replaced whole at every redistribution: the solution is always that of
+ * C with the source of the pose in hand, and nothing adds up. The cost is
+ * nothing: one redistribution per frame, three hemicubes per patch.
+ *
+ * The first solve is progressive refinement of C alone, then rounds of
+ * (redistribution, progressive iterations to the threshold): each round
+ * puts in what M does to the light the last one left.
  *
  * The hemicubes hold shot radiosity x scale in fp16, scale = 1/2 of the
  * bound E_max / (1 - rho_max) on any radiosity (room for B - Bu > B where Bu
@@ -66,16 +70,14 @@
 #include "solvers/progressive.h"
 #include "solvers/solver.h"
 
-/* The per-pair cache of the last redistribution's terms grows with
- * elements x patches; above this the old pose is evaluated again from the
- * kept hemicubes instead (the same numbers, twice the work). */
-#define MAX_PAIR_BYTES (64ull << 20)
+/* Rounds of (redistribution, progressive iterations) in the first solve. */
+#define SOLVE_ROUNDS 4
 
 typedef struct cross {
     progressive *prog;
     dynamic_patches dp;
     uint32_t P; /* patches of M */
-    hemicube_pass *ids[2], *back[2], *gather;
+    hemicube_pass *ids, *back, *gather;
     integrate_pass *integrate;
     atlas_scatter_pass *scatter;
     cross_update_pass *update;
@@ -85,14 +87,11 @@ typedef struct cross {
     gpu_buffer gathered;      /* vec4[P] */
     gpu_buffer surface_patch; /* uint[surface_count] */
     gpu_buffer shot;          /* vec4[element_count]: B - Bu of C, 0 on M */
-    gpu_buffer frames;        /* gpu_shooter[2 slots][3 tables][P], host-written */
-    gpu_buffer quads;         /* struct cross_quad[2 slots][P], host-written */
-    gpu_buffer pairs;         /* float[P x element_count]: last new-pose F per pair;
-                                 empty where that would exceed MAX_PAIR_BYTES */
+    gpu_buffer inserted;      /* vec4[element_count]: what step 5 last added to C */
+    gpu_buffer frames;        /* gpu_shooter[3 tables][P], host-written */
+    gpu_buffer quads;         /* struct cross_quad[P], host-written */
     double diameter;          /* m, the scale of the hemicubes' near plane and distances,
                                  fixed at create (the posed scene's diameter changes) */
-    uint32_t slot;            /* the slot holding the pose in hand */
-    bool cached;              /* ids[slot] and back[slot] were rendered at the pose in hand */
     double scale;
 } cross;
 
@@ -103,17 +102,15 @@ static void destroy(xrad_solver *s)
         return;
     struct xrad_context *ctx = s->ctx;
     progressive_destroy(s, &c->prog);
-    for (int k = 0; k < 2; k++) {
-        hemicube_destroy(ctx, &c->ids[k]);
-        hemicube_destroy(ctx, &c->back[k]);
-    }
+    hemicube_destroy(ctx, &c->ids);
+    hemicube_destroy(ctx, &c->back);
     hemicube_destroy(ctx, &c->gather);
     integrate_destroy(ctx, &c->integrate);
     atlas_scatter_destroy(ctx, &c->scatter);
     cross_update_destroy(ctx, &c->update);
     cross_reconstruct_destroy(ctx, &c->reconstruct);
-    gpu_buffer *buffers[] = {&c->patches, &c->values, &c->gathered, &c->surface_patch,
-                             &c->shot,    &c->frames, &c->quads,          &c->pairs};
+    gpu_buffer *buffers[] = {&c->patches, &c->values,   &c->gathered, &c->surface_patch,
+                             &c->shot,    &c->inserted, &c->frames,   &c->quads};
     for (size_t k = 0; k < sizeof(buffers) / sizeof(buffers[0]); k++)
         gpu_buffer_destroy(ctx, buffers[k]);
     dynamic_patches_free(&c->dp);
@@ -131,15 +128,6 @@ static double radiosity_bound(const xrad_scene *scene)
         rho = fmax(rho, fmax(mt->albedo.x, fmax(mt->albedo.y, mt->albedo.z)));
     }
     return e > 0 ? e / (1 - rho) : 1;
-}
-
-static xrad_status create_pairs(xrad_solver *s, cross *c, xrad_error *err)
-{
-    uint64_t bytes = (uint64_t)c->P * s->gs.element_count * sizeof(float);
-    if (bytes > MAX_PAIR_BYTES || bytes > s->ctx->props.limits.maxStorageBufferRange)
-        return XRAD_OK;
-    return gpu_buffer_create(s->ctx, bytes, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
-                             GPU_MEM_REDISTRIBUTION, &c->pairs, err);
 }
 
 static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *err)
@@ -162,10 +150,11 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                             .max_hemicubes = P, .msaa = 1, .path = HEMICUBE_PATH_AUTO,
                             .diameter = diameter,
                             .fp32 = d->radiosity_format == XRAD_RADIOSITY_FP32,
-                          .redistribution = true};
+                            .redistribution = true};
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     size_t ns = gs->surface_count ? gs->surface_count : 1;
+    size_t element_bytes = (size_t)gs->element_count * sizeof(vec4);
     xrad_status st;
     if ((st = gpu_buffer_create(ctx, P * sizeof(struct cross_patch), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->patches, err)) ||
@@ -175,25 +164,23 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                                 GPU_MEM_REDISTRIBUTION, &c->gathered, err)) ||
         (st = gpu_buffer_create(ctx, ns * sizeof(uint32_t), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->surface_patch, err)) ||
-        (st = gpu_buffer_create(ctx, (size_t)gs->element_count * sizeof(vec4), storage,
-                                GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &c->shot, err)) ||
-        (st = gpu_buffer_create(ctx, 2 * CROSS_FRAME_TABLES * P * sizeof(struct gpu_shooter),
+        (st = gpu_buffer_create(ctx, element_bytes, storage, GPU_MEM_DEVICE,
+                                GPU_MEM_REDISTRIBUTION, &c->shot, err)) ||
+        (st = gpu_buffer_create(ctx, element_bytes, storage, GPU_MEM_DEVICE,
+                                GPU_MEM_REDISTRIBUTION, &c->inserted, err)) ||
+        (st = gpu_buffer_create(ctx, CROSS_FRAME_TABLES * P * sizeof(struct gpu_shooter),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
                                 GPU_MEM_REDISTRIBUTION, &c->frames, err)) ||
-        (st = gpu_buffer_create(ctx, 2 * P * sizeof(struct cross_quad),
+        (st = gpu_buffer_create(ctx, P * sizeof(struct cross_quad),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
                                 GPU_MEM_REDISTRIBUTION, &c->quads, err)) ||
-        (st = create_pairs(s, c, err)) ||
         (st = gpu_upload_buffer(ctx, &c->patches, 0, c->dp.patches,
                                 P * sizeof(struct cross_patch), err)) ||
         (st = gpu_upload_buffer(ctx, &c->surface_patch, 0, c->dp.surface_patch,
-                                gs->surface_count * sizeof(uint32_t), err)))
-        return st;
-    for (int k = 0; k < 2; k++)
-        if ((st = hemicube_create_desc(ctx, &ids, &c->ids[k], err)) ||
-            (st = hemicube_create_desc(ctx, &back, &c->back[k], err)))
-            return st;
-    if ((st = hemicube_create_desc(ctx, &gather, &c->gather, err)) ||
+                                gs->surface_count * sizeof(uint32_t), err)) ||
+        (st = hemicube_create_desc(ctx, &ids, &c->ids, err)) ||
+        (st = hemicube_create_desc(ctx, &back, &c->back, err)) ||
+        (st = hemicube_create_desc(ctx, &gather, &c->gather, err)) ||
         (st = integrate_create(ctx, d->hemicube_res, &c->integrate, err)) ||
         (st = atlas_scatter_create(ctx, &c->scatter, err)) ||
         (st = cross_update_create(ctx, &c->update, err)) ||
@@ -203,14 +190,11 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                       &(cross_update_bindings){&gs->surfaces, &gs->elements, &gs->materials,
                                                &gs->B, &gs->Bu, &c->patches, &c->values,
                                                &c->gathered, &c->shot, &c->surface_patch});
-    cross_reconstruct_bind(
-        ctx, c->reconstruct,
-        &(cross_reconstruct_bindings){
-            &gs->surfaces, &gs->elements, &gs->materials, &gs->B, &gs->Bu, &c->values, &c->frames,
-            &c->quads,
-            {hemicube_ids_view(c->ids[0]), hemicube_ids_view(c->ids[1])},
-            {hemicube_image(c->back[0])->view, hemicube_image(c->back[1])->view},
-            c->pairs.buffer ? &c->pairs : &c->gathered});
+    cross_reconstruct_bind(ctx, c->reconstruct,
+                           &(cross_reconstruct_bindings){
+                               &gs->surfaces, &gs->elements, &gs->materials, &gs->B, &gs->Bu,
+                               &c->values, &c->frames, &c->quads, hemicube_ids_view(c->ids),
+                               hemicube_image(c->back)->view, &c->inserted});
     c->scale = 0.5 / radiosity_bound(s->scene);
     return XRAD_OK;
 }
@@ -223,8 +207,7 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
     s->impl = c;
     xrad_status st;
     if ((st = dynamic_patches_build(s->scene, s->desc.max_patches, &c->dp, err)) ||
-        (c->dp.count && (st = dynamic_patches_fix(s->ctx, &s->gs, &c->dp, err))) ||
-        (st = progressive_create(s, &c->prog, err)))
+        (st = progressive_create(s, true, &c->prog, err)))
         goto fail;
     c->P = c->dp.count;
     const VkPhysicalDeviceLimits *lim = &s->ctx->props.limits;
@@ -250,36 +233,6 @@ fail:
     return st;
 }
 
-/* The patches' frames and quads at scene time t into slot `slot`. The GPU
- * must not be reading that slot. */
-static void write_slot(xrad_solver *s, cross *c, uint32_t slot, double t)
-{
-    struct gpu_shooter *f = c->frames.alloc.mapped;
-    struct cross_quad *q = c->quads.alloc.mapped;
-    size_t table = (size_t)slot * CROSS_FRAME_TABLES;
-    dynamic_patches_pose(s->scene, &c->dp, t, s->desc.seed,
-                         f + (table + CROSS_FRAMES_FRONT) * c->P,
-                         f + (table + CROSS_FRAMES_BACK) * c->P,
-                         f + (table + CROSS_FRAMES_GATHER) * c->P, q + (size_t)slot * c->P);
-}
-
-static xrad_status solve(xrad_solver *s, xrad_error *err)
-{
-    cross *c = s->impl;
-    c->cached = false;
-    xrad_status st = progressive_run(s, c->prog, true, 0, err);
-    /* The pose in hand, for the first redistribution from it. */
-    if (!st && c->P)
-        write_slot(s, c, c->slot, s->desc.time);
-    solver_collect_times(s);
-    return st;
-}
-
-static uint32_t frames_first(const cross *c, uint32_t slot, uint32_t table)
-{
-    return (slot * CROSS_FRAME_TABLES + table) * c->P;
-}
-
 /* Everything earlier in the queue (other submissions, host writes) is done
  * with and visible to everything later. */
 static void full_barrier(VkCommandBuffer cmd)
@@ -299,97 +252,48 @@ static void compute_barrier(VkCommandBuffer cmd)
                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
-/* The atlas gets B - Bu of C (0 on M), ready for the radiosity hemicubes. */
-static void record_shot_atlas(xrad_solver *s, cross *c, VkCommandBuffer cmd)
+static uint32_t frames_first(const cross *c, uint32_t table)
 {
-    cross_update_record(c->update, cmd, CROSS_UPDATE_SHOT_C, c->P, s->gs.element_count);
-    compute_barrier(cmd);
-    atlas_scatter_record(c->scatter, cmd,
-                         &(atlas_scatter_draw){&s->gs.elements, &c->shot, s->gs.element_count,
-                                               &s->gs.atlas});
-    gpu_image_barrier(cmd, &s->gs.atlas, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
-                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    return table * c->P;
 }
 
-/* The back hemicubes (static geometry, shot radiosity) of slot `slot`,
- * whose frames are written. */
-static void record_back(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot)
+/* Steps 1 and 2: M reset, the atlas holding B - Bu of C (0 on M), and the
+ * ID and back hemicubes of the patches at the pose in hand, whose frames
+ * are written. */
+static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
 {
     const gpu_scene *gs = &s->gs;
+    uint32_t n = gs->element_count, P = c->P;
+    full_barrier(cmd);
+    gpu_timer_begin(s->timer, cmd, "cross.update");
+    cross_update_record(c->update, cmd, CROSS_UPDATE_RESET, P, n);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_SHOT_C, P, n);
+    compute_barrier(cmd);
+    atlas_scatter_record(c->scatter, cmd,
+                         &(atlas_scatter_draw){&gs->elements, &c->shot, n, &gs->atlas});
+    gpu_image_barrier(cmd, &gs->atlas, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    gpu_timer_end(s->timer, cmd);
+    gpu_timer_begin(s->timer, cmd, "cross.hemicube");
+    hemicube_record(c->ids, cmd,
+                    &(hemicube_draw){.vertices = &gs->vertices, .vertex_count = gs->vertex_count,
+                                     .frames = &c->frames,
+                                     .first = frames_first(c, CROSS_FRAMES_FRONT), .count = P});
+    gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.back");
-    hemicube_record(c->back[slot], cmd,
+    hemicube_record(c->back, cmd,
                     &(hemicube_draw){.vertices = &gs->vertices,
                                      .vertex_count = gs->static_vertex_count,
                                      .frames = &c->frames,
-                                     .first = frames_first(c, slot, CROSS_FRAMES_BACK),
-                                     .count = c->P, .atlas = &gs->atlas,
-                                     .scale = (float)c->scale});
+                                     .first = frames_first(c, CROSS_FRAMES_BACK), .count = P,
+                                     .atlas = &gs->atlas, .scale = (float)c->scale});
     gpu_timer_end(s->timer, cmd);
-    s->stats.hemicubes += c->P;
+    s->stats.hemicubes += 2 * P;
 }
 
-/* The ID hemicubes on the patches' fronts and the back hemicubes of slot
- * `slot`, whose frames are written. */
-static void record_pose_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot)
-{
-    const gpu_scene *gs = &s->gs;
-    gpu_timer_begin(s->timer, cmd, "cross.hemicube");
-    hemicube_record(c->ids[slot], cmd,
-                    &(hemicube_draw){.vertices = &gs->vertices, .vertex_count = gs->vertex_count,
-                                     .frames = &c->frames,
-                                     .first = frames_first(c, slot, CROSS_FRAMES_FRONT),
-                                     .count = c->P});
-    gpu_timer_end(s->timer, cmd);
-    s->stats.hemicubes += c->P;
-    record_back(s, c, cmd, slot);
-}
-
-static xrad_status run(xrad_solver *s, gpu_cmd *cmd, xrad_error *err)
-{
-    full_barrier(cmd->cmd);
-    return solver_submit_wait(s, cmd, err);
-}
-
-/* The old pose's hemicubes, rendered at the pose in hand (before it moves)
- * from the frames slot c->slot holds since that pose was taken: the scene
- * may have changed since (xrad_scene_set_offset). */
-static xrad_status render_old_pose(xrad_solver *s, cross *c, xrad_error *err)
-{
-    gpu_cmd cmd;
-    xrad_status st = gpu_cmd_begin(s->ctx, &cmd, err);
-    if (st)
-        return st;
-    gpu_timer_start(s->timer, cmd.cmd);
-    full_barrier(cmd.cmd);
-    record_shot_atlas(s, c, cmd.cmd);
-    record_pose_hemicubes(s, c, cmd.cmd, c->slot);
-    return run(s, &cmd, err);
-}
-
-/* The redistribution's first part: M's values leave the solution, the
- * new pose's front and back hemicubes, and with `back_old` the old pose's
- * back hemicubes again, with the shot radiosity of C in hand (the ones kept
- * from the last redistribution show C as it was then). */
-static void record_update(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot,
-                          bool back_old)
-{
-    uint32_t n = s->gs.element_count, P = c->P;
-    full_barrier(cmd);
-    gpu_timer_begin(s->timer, cmd, "cross.update");
-    cross_update_record(c->update, cmd, CROSS_UPDATE_SHOT, P, n);
-    compute_barrier(cmd);
-    cross_update_record(c->update, cmd, CROSS_UPDATE_RESET, P, n);
-    compute_barrier(cmd);
-    record_shot_atlas(s, c, cmd);
-    gpu_timer_end(s->timer, cmd);
-    if (back_old)
-        record_back(s, c, cmd, 1 - slot);
-    record_pose_hemicubes(s, c, cmd, slot);
-}
-
-/* R_g(C, M) at the patches' coarse samples. */
-static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot)
+/* Steps 3 and 4: R_g(C, M) at the patches' coarse samples, then R_p(M, M). */
+static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd)
 {
     const gpu_scene *gs = &s->gs;
     uint32_t n = gs->element_count, P = c->P;
@@ -398,9 +302,8 @@ static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_
     hemicube_record(c->gather, cmd,
                     &(hemicube_draw){.vertices = &gs->vertices, .vertex_count = gs->vertex_count,
                                      .frames = &c->frames,
-                                     .first = frames_first(c, slot, CROSS_FRAMES_GATHER),
-                                     .count = P, .atlas = &gs->atlas,
-                                     .scale = (float)c->scale});
+                                     .first = frames_first(c, CROSS_FRAMES_GATHER), .count = P,
+                                     .atlas = &gs->atlas, .scale = (float)c->scale});
     s->stats.hemicubes += P;
     integrate_record(c->integrate, cmd,
                      &(integrate_draw){.hemicubes = hemicube_image(c->gather)->view, .count = P,
@@ -409,29 +312,27 @@ static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_
     cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n);
     compute_barrier(cmd);
     cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, P, n);
-    compute_barrier(cmd);
     gpu_timer_end(s->timer, cmd);
 }
 
-/* The cross projection of elements [first, first + count). */
-static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t slot,
-                               uint32_t pairs, uint32_t first, uint32_t count)
+/* Phase `phase` of the cross reconstruct pass for elements [first, first + count). */
+static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t phase,
+                               uint32_t first, uint32_t count)
 {
     full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.reconstruct");
     cross_reconstruct_record(c->reconstruct, cmd,
                              &(cross_reconstruct_params){
+                                 .phase = phase,
                                  .element_count = s->gs.element_count,
                                  .patch_count = c->P,
                                  .hemicube_res = s->desc.hemicube_res,
                                  .back_res = s->desc.back_res,
                                  .grid = s->desc.cross_grid,
                                  .bilinear = !s->desc.back_nearest,
-                                 .new_slot = slot,
                                  .subdivide_ratio = s->desc.subdivide_ratio,
                                  .back_scale = c->scale,
                                  .diameter = c->diameter,
-                                 .pairs = pairs,
                                  .first = first,
                                  .count = count,
                                  .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
@@ -439,26 +340,34 @@ static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, ui
     gpu_timer_end(s->timer, cmd);
 }
 
-/* The redistribution to the pose in slot `slot`: one submission, or with
- * desc.slice_elements, one for the hemicubes, one for the gather and one
- * per slice of the cross projection, each waited for, so that another
- * thread's work on the queue (a display) gets in between. */
-static xrad_status redistribute(xrad_solver *s, cross *c, uint32_t slot, uint32_t pairs,
-                                bool back_old, xrad_error *err)
+static xrad_status run(xrad_solver *s, gpu_cmd *cmd, xrad_error *err)
+{
+    full_barrier(cmd->cmd);
+    return solver_submit_wait(s, cmd, err);
+}
+
+/* Steps 1-5 at scene time t: one submission, or with desc.slice_elements,
+ * one for the hemicubes and the gather and one per slice of step 5, each
+ * waited for, so that another thread's work on the queue (a display) gets
+ * in between. B^s of C does not change within it (thesis 3.3.4): nothing
+ * else is in those submissions, and the progressive iterations come after. */
+static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *err)
 {
     uint32_t n = s->gs.element_count, slice = s->desc.slice_elements;
+    struct gpu_shooter *f = c->frames.alloc.mapped;
+    dynamic_patches_pose(s->scene, &c->dp, t, s->desc.seed, f + CROSS_FRAMES_FRONT * c->P,
+                         f + CROSS_FRAMES_BACK * c->P, f + CROSS_FRAMES_GATHER * c->P,
+                         c->quads.alloc.mapped);
     gpu_cmd cmd;
     xrad_status st = gpu_cmd_begin(s->ctx, &cmd, err);
     if (st)
         return st;
     gpu_timer_start(s->timer, cmd.cmd);
-    record_update(s, c, cmd.cmd, slot, back_old);
-    if (slice) {
-        if ((st = run(s, &cmd, err)) || (st = gpu_cmd_begin(s->ctx, &cmd, err)))
-            return st;
-        gpu_timer_start(s->timer, cmd.cmd);
-    }
-    record_gather(s, c, cmd.cmd, slot);
+    record_hemicubes(s, c, cmd.cmd);
+    record_gather(s, c, cmd.cmd);
+    record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_M, 0, n);
+    full_barrier(cmd.cmd);
+    cross_update_record(c->update, cmd.cmd, CROSS_UPDATE_TOTAL, c->P, n);
     for (uint32_t first = 0; first < n;) {
         uint32_t count = slice && slice < n - first ? slice : n - first;
         if (slice) {
@@ -466,37 +375,46 @@ static xrad_status redistribute(xrad_solver *s, cross *c, uint32_t slot, uint32_
                 return st;
             gpu_timer_start(s->timer, cmd.cmd);
         }
-        record_reconstruct(s, c, cmd.cmd, slot, pairs, first, count);
+        record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_C, first, count);
         first += count;
     }
     return run(s, &cmd, err);
 }
 
+/* Nothing inserted yet: the start of a solve. */
+static xrad_status clear_inserted(xrad_solver *s, cross *c, xrad_error *err)
+{
+    size_t bytes = (size_t)s->gs.element_count * sizeof(vec4);
+    void *zero = calloc(1, bytes ? bytes : 1);
+    if (!zero)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "cross solver: out of host memory");
+    xrad_status st = gpu_upload_buffer(s->ctx, &c->inserted, 0, zero, bytes, err);
+    free(zero);
+    return st;
+}
+
+static xrad_status solve(xrad_solver *s, xrad_error *err)
+{
+    cross *c = s->impl;
+    xrad_status st = c->P ? clear_inserted(s, c, err) : XRAD_OK;
+    if (!st)
+        st = progressive_run(s, c->prog, true, 0, err);
+    for (int round = 0; c->P && !st && round < SOLVE_ROUNDS; round++)
+        if (!(st = redistribute(s, c, s->desc.time, err)))
+            st = progressive_run(s, c->prog, false, 0, err);
+    solver_collect_times(s);
+    return st;
+}
+
 static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
 {
     cross *c = s->impl;
-    xrad_status st;
     double t0 = solver_now_ms();
-    if (c->P) {
-        /* The old pose's form factors: kept per pair, or from the kept ID
-         * hemicubes, or (thesis, or nothing kept yet) rendered now; its back
-         * hemicubes are drawn again in any case. */
-        bool reuse = c->cached && !s->desc.cross_recompute;
-        uint32_t pairs = c->pairs.buffer ? CROSS_PAIRS_WRITE | (reuse ? CROSS_PAIRS_READ : 0) : 0;
-        if (!reuse && (st = render_old_pose(s, c, err)))
-            return st;
-        if ((st = gpu_scene_pose(s->ctx, &s->gs, time, err)))
-            return st;
-        uint32_t slot = 1 - c->slot;
-        write_slot(s, c, slot, time);
-        c->cached = false;
-        if ((st = redistribute(s, c, slot, pairs, reuse, err)))
-            return st;
-        c->slot = slot;
-        c->cached = true;
-    } else if ((st = gpu_scene_pose(s->ctx, &s->gs, time, err))) {
+    xrad_status st = gpu_scene_pose(s->ctx, &s->gs, time, err);
+    if (!st && c->P)
+        st = redistribute(s, c, time, err);
+    if (st)
         return st;
-    }
     s->stats.redistribute_ms = solver_now_ms() - t0;
     st = progressive_run(s, c->prog, false, s->desc.frame_shots, err);
     solver_collect_times(s);

@@ -136,7 +136,8 @@ static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, doub
     return s;
 }
 
-xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err)
+xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, bool static_only,
+                            xrad_error *err)
 {
     const xrad_scene *scene = gs->scene;
     size_t n = at_least_one(gs->element_count);
@@ -149,6 +150,11 @@ xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, xrad_error 
         e[i] = gpu_vec4(m->emission, 0);
     }
     xrad_status s = gpu_upload_buffer(ctx, &gs->B, 0, e, n * sizeof(*e), err);
+    for (uint32_t i = 0; static_only && i < gs->element_count; i++) {
+        const surface *sf = &scene->surfaces[scene->elements[i].surface];
+        if (scene->objects[sf->object].dynamic)
+            e[i] = (vec4){0};
+    }
     if (!s)
         s = gpu_upload_buffer(ctx, &gs->Bu, 0, e, n * sizeof(*e), err);
     free(e);
@@ -244,7 +250,7 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                                GPU_MEM_GEOMETRY, &out->vertices, err)) ||
         (s = gpu_image_create(ctx, &ad, &out->atlas, err)) ||
         (s = upload_geometry(ctx, out, time, err)) || (s = upload_materials(ctx, out, err)) ||
-        (s = gpu_scene_reset(ctx, out, err)) || (s = init_atlas(ctx, out, err))) {
+        (s = gpu_scene_reset(ctx, out, false, err)) || (s = init_atlas(ctx, out, err))) {
         gpu_scene_destroy(ctx, out);
         xrad_error_prefix(err, "GPU scene");
         return s;

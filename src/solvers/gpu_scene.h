@@ -12,6 +12,7 @@
 #ifndef XRAD_SOLVERS_GPU_SCENE_H
 #define XRAD_SOLVERS_GPU_SCENE_H
 
+#include <stdbool.h>
 #include <stdint.h>
 
 #include "gpu/buffer.h"
@@ -81,8 +82,10 @@ xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
 xrad_status gpu_scene_fix_patches(struct xrad_context *ctx, gpu_scene *gs,
                                   const uint32_t *patches, xrad_error *err);
 
-/* B = Bu = E for every element. */
-xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err);
+/* B = Bu = E for every element; with static_only, Bu = 0 on the dynamic
+ * surfaces (whose light the cross method shoots itself). */
+xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, bool static_only,
+                            xrad_error *err);
 
 /* Reads B back into a host atlas (xrad_atlas_create of the same scene);
  * with `ambient`, plus the ambient term of the unshot radiosity Bu. */

@@ -43,6 +43,7 @@ struct progressive {
     gpu_buffer ff, norm; /* the reconstruct pass's conservation (reconstruct.h) */
     gpu_buffer status;   /* struct select_status, host-visible: read once per batch */
     uint32_t max_shooters;
+    bool static_only;
     select_params select_params;
     reconstruct_params reconstruct_params;
 };
@@ -85,7 +86,8 @@ void progressive_destroy(xrad_solver *s, progressive **engine)
     *engine = NULL;
 }
 
-xrad_status progressive_create(xrad_solver *s, progressive **out, xrad_error *err)
+xrad_status progressive_create(xrad_solver *s, bool static_only, progressive **out,
+                               xrad_error *err)
 {
     *out = NULL;
     progressive *p = calloc(1, sizeof(*p));
@@ -94,6 +96,7 @@ xrad_status progressive_create(xrad_solver *s, progressive **out, xrad_error *er
     struct xrad_context *ctx = s->ctx;
     const gpu_scene *gs = &s->gs;
     p->max_shooters = shooter_capacity(s);
+    p->static_only = static_only;
     xrad_status st;
     if ((st = gpu_buffer_create(ctx, (VkDeviceSize)p->max_shooters * sizeof(struct gpu_shooter),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
@@ -136,7 +139,7 @@ xrad_status progressive_create(xrad_solver *s, progressive **out, xrad_error *er
         .element_count = gs->element_count,
         .max_patches = s->desc.max_patches,
         .max_shooters = p->max_shooters,
-        .draw_vertex_count = gs->vertex_count,
+        .draw_vertex_count = static_only ? gs->static_vertex_count : gs->vertex_count,
         .instances_per_hemicube = hemicube_instances_per_hemicube(p->hemicube),
         .reconstruct_group = reconstruct_group_size(),
         .seed = s->desc.seed,
@@ -206,7 +209,7 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
          * waited for (or none where B and Bu are host-visible): count them
          * from the context's submission counter. */
         uint64_t before = ctx->timeline_value;
-        if ((st = gpu_scene_reset(ctx, &s->gs, err)))
+        if ((st = gpu_scene_reset(ctx, &s->gs, p->static_only, err)))
             return st;
         s->stats.submissions += (uint32_t)(ctx->timeline_value - before);
         s->stats.host_waits += (uint32_t)(ctx->timeline_value - before);
@@ -270,7 +273,7 @@ static void destroy(xrad_solver *s)
 static xrad_status create(xrad_solver *s, xrad_error *err)
 {
     progressive *p = NULL;
-    xrad_status st = progressive_create(s, &p, err);
+    xrad_status st = progressive_create(s, false, &p, err);
     s->impl = p;
     return st;
 }

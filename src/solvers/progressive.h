@@ -19,12 +19,16 @@ typedef struct progressive progressive;
 
 /* Passes and buffers for the solver's scene and settings (hemicube_res,
  * batch, max_patches, subdivide_ratio, threshold, seed). May grow the
- * solver's timer. */
-xrad_status progressive_create(struct xrad_solver *s, progressive **out, xrad_error *err);
+ * solver's timer. static_only: the shots' hemicubes draw the static set C
+ * alone and a restart leaves the dynamic set M nothing unshot, so that
+ * shots neither reach M nor come from it, nor are blocked by it (the cross
+ * method, which adds what M does to C itself). */
+xrad_status progressive_create(struct xrad_solver *s, bool static_only, progressive **out,
+                               xrad_error *err);
 /* Accepts NULL and *p == NULL; sets *p to NULL. The GPU must be done with it. */
 void progressive_destroy(struct xrad_solver *s, progressive **p);
 
-/* restart: B = Bu = E, then shoot, fixed patches conserving too
+/* restart: B = Bu = E (Bu = 0 on M where static_only), then shoot, fixed patches conserving too
  * (reconstruct_params.conserve_fixed). Otherwise continue from the B and Bu
  * in hand, with the threshold still relative to the largest power of the
  * last restart (the emitted power). Shoots until the largest unshot power
