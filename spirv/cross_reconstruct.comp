@@ -1,7 +1,10 @@
 #version 450
 // Cross redistribution, the shooting half (src/passes/cross_reconstruct.c;
 // thesis Algorithm 4.4 lines 15-20 and Algorithm 4.5), one invocation per
-// element looping over every patch of M, in two dispatches (phase):
+// element looping over every patch of M, in three dispatches (phase):
+//
+//  CROSS_RECONSTRUCT_M_DIRECT, element of M: rho x the direct light of the
+//  lights of C, through their ID hemicubes with M (lit_direct), into B;
 //
 //  CROSS_RECONSTRUCT_M, element of M (R_p(M, M), reshooting): the total
 //  radiosity of each other patch it sees, RECONSTRUCTIONSHADER(s, e,
@@ -10,9 +13,10 @@
 //
 //  CROSS_RECONSTRUCT_C, element e of C (R_p(M, C) + R_x(C, C), the
 //  new-pose half of eq. 3.3.1 as DESIGN.md writes it):
-//    X_e = rho_e sum over the patches s' e sees of F (B_s' - P(C, s', e)),
-//  B_s' the patch's total, P(C, s', e) the shot radiosity of C that s'
-//  hides from e. The new-pose projected term is subtracted, as in eq.
+//    X_e = rho_e (sum over the patches s' e sees of F (B_s' - P(C, s', e))
+//                 - the direct light M hides from e, blocked_direct),
+//  B_s' the patch's total, P(C, s', e) the shot radiosity of C less its
+//  emission that s' hides from e. The new-pose projected term is subtracted, as in eq.
 //  3.3.1: the patch hides what lies behind it (line 39 of Algorithm 4.5
 //  writes a plus; the sign test in tests/solvers/test_dynamic.c decides).
 //  The old-pose half is the X the last redistribution added, kept per
@@ -22,7 +26,8 @@
 //  (thesis 3.3.4, 6.2). The progressive iterations do not see M (their
 //  hemicubes draw C alone, src/solvers/cross.c), so X is all M does to C:
 //  the solution is that of C plus the source X of the pose in hand, and no
-//  error can add up over frames.
+//  error can add up over frames. An element in contact with M (covered())
+//  gets X = E - (B without X): its emission alone.
 //
 // PROJECTEDRADIOSITY(s, e): grid x grid rays from e's receiver point
 // through the centres of a grid over the patch; each is REPROJECTed through
@@ -53,6 +58,9 @@
 
 layout(local_size_x = CROSS_RECONSTRUCT_GROUP) in;
 
+// Contact distance, a fraction of the scene's diameter (covered()).
+const float CONTACT = 1e-4;
+
 layout(push_constant) uniform Push { cross_reconstruct_push pc; };
 
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
@@ -66,6 +74,10 @@ layout(std430, binding = CROSS_RECONSTRUCT_BINDING_QUADS) readonly buffer Quads 
 layout(binding = CROSS_RECONSTRUCT_BINDING_IDS) uniform utexture2DArray ids;
 layout(binding = CROSS_RECONSTRUCT_BINDING_BACK) uniform texture2DArray back;
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_INSERTED) buffer Inserted { vec4 inserted[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_LIGHTS) readonly buffer Lights { gpu_shooter lights[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_LIGHT_QUADS) readonly buffer LightQuads { cross_quad light_quads[]; };
+layout(binding = CROSS_RECONSTRUCT_BINDING_LIGHT_IDS_C) uniform utexture2DArray light_ids_c;
+layout(binding = CROSS_RECONSTRUCT_BINDING_LIGHT_IDS) uniform utexture2DArray light_ids;
 
 gpu_shooter frame(uint table, uint p)
 {
@@ -161,12 +173,11 @@ vec3 projected(uint p, vec3 x, vec3 ne)
     return weights > 0.0 ? total * (pc.inv_scale / weights) : vec3(0.0);
 }
 
-// Where x (normal ne) and the front of patch p face each other: x's offset
-// d from the patch centre, the two cosines and x's direction in the
-// patch's ID hemicube.
-bool patch_facing(uint p, vec3 x, vec3 ne, out vec3 d, out vec2 cosines, out vec3 local)
+// Where x (normal ne) and the front of the patch with frame f face each
+// other: x's offset d from the patch centre, the two cosines and x's
+// direction in the patch's ID hemicube.
+bool facing(gpu_shooter f, vec3 x, vec3 ne, out vec3 d, out vec2 cosines, out vec3 local)
 {
-    gpu_shooter f = frame(CROSS_FRAMES_FRONT, p);
     d = x - f.pos_area.xyz;
     cosines = vec2(dot(d, f.normal.xyz), -dot(d, ne));
     local = vec3(0.0);
@@ -176,18 +187,36 @@ bool patch_facing(uint p, vec3 x, vec3 ne, out vec3 d, out vec2 cosines, out vec
     return true;
 }
 
-// The form factor from x to patch p (spirv/shooting.glsl), once
-// patch_facing said yes and the ID hemicube showed x: asked after the
-// visibility test because the near-field form factor costs more.
-float patch_form_factor(uint p, vec3 x, vec3 ne, vec3 d, vec2 cosines)
+// The form factor from x to the patch (frame f, corners q;
+// spirv/shooting.glsl), once facing() said yes and the ID hemicube showed
+// x: asked after the visibility test because the near-field form factor
+// costs more.
+float form_factor(gpu_shooter f, cross_quad q, vec3 x, vec3 ne, vec3 d, vec2 cosines)
 {
-    float area = frame(CROSS_FRAMES_FRONT, p).pos_area.w;
-    if (shooting_near(d, area, pc.subdivide_ratio)) {
-        cross_quad q = quads[p];
+    float area = f.pos_area.w;
+    if (shooting_near(d, area, pc.subdivide_ratio))
         return shooting_point_to_quad(x, ne, vec3[4](q.corner[0].xyz, q.corner[1].xyz,
                                                      q.corner[2].xyz, q.corner[3].xyz));
-    }
     return shooting_disk(d, cosines.x, cosines.y, area);
+}
+
+// Whether x (normal ne) lies on patch p's front face to face (an object
+// of M resting on it): in the patch's plane within tol, inside its quad,
+// the normals opposed. Such a receiver sees no patch of M (the cosine at
+// the patch is 0), so the cross projection cannot take from it the light
+// that the progressive iterations, which do not see M, bring it.
+bool covered(uint p, vec3 x, vec3 ne, float tol)
+{
+    vec3 n = frame(CROSS_FRAMES_FRONT, p).normal.xyz;
+    cross_quad q = quads[p];
+    if (dot(ne, n) >= 0.0 || abs(dot(x - q.corner[0].xyz, n)) > tol)
+        return false;
+    for (int k = 0; k < 4; k++) {
+        vec3 a = q.corner[k].xyz, b = q.corner[(k + 1) & 3].xyz;
+        if (dot(cross(b - a, x - a), n) < 0.0)
+            return false;
+    }
+    return true;
 }
 
 // Patch p's form factor to x where x sees it (the ID hemicube shows x), else 0.
@@ -195,10 +224,68 @@ float seen(uint p, vec3 x, vec3 ne, uint id)
 {
     vec3 d, local;
     vec2 cosines;
-    if (!patch_facing(p, x, ne, d, cosines, local) ||
+    gpu_shooter f = frame(CROSS_FRAMES_FRONT, p);
+    if (!facing(f, x, ne, d, cosines, local) ||
         !shooting_visible(ids, pc.hemicube_res, pc.neighbours != 0u, local, p, id))
         return 0.0;
-    return patch_form_factor(p, x, ne, d, cosines);
+    return form_factor(f, quads[p], x, ne, d, cosines);
+}
+
+// The direct light of the lights of C at x (an element of M): the
+// emission of every light patch whose ID hemicube with M shows x, through
+// the form factor a progressive shot uses. The gather hemicubes see C
+// without emission (INDIRECT_C): a light is often far smaller than a
+// texel of theirs (a 1 mm^2 lamp), while its own hemicube resolves what it
+// lights as the progressive shots do.
+vec3 lit_direct(vec3 x, vec3 ne, uint id)
+{
+    vec3 sum = vec3(0.0);
+    for (uint l = 0u; l < pc.light_count; l++) {
+        vec3 d, local;
+        vec2 cosines;
+        gpu_shooter f = lights[l];
+        if (facing(f, x, ne, d, cosines, local) &&
+            shooting_visible(light_ids, pc.hemicube_res, pc.neighbours != 0u, local, l, id))
+            sum += form_factor(f, light_quads[l], x, ne, d, cosines) *
+                   materials[surfaces[f.surface].material].emission.rgb;
+    }
+    return sum;
+}
+
+// Whether the texel toward local direction `local` of ID hemicube l in
+// `ids` shows a surface of M.
+bool shows_m(utexture2DArray ids, vec3 local, uint l)
+{
+    uvec2 px;
+    int face = hemicube_lookup(local, pc.hemicube_res, px);
+    uint shown = texelFetch(ids, ivec3(px, int(l) * HEMICUBE_FACES + face), 0).r;
+    return shown != 0u && surfaces[shown - 1u].dynamic != 0u;
+}
+
+// The direct light M takes from x: the emission of every light patch whose
+// ID hemicube of C alone shows x and whose hemicube with M shows M in x's
+// direction, through the form factor a progressive shot uses. The back
+// hemicubes hold C without emission (INDIRECT_C), so the cross projection
+// handles indirect light only: a light is often far smaller than a back
+// hemicube's texel (a 1 mm^2 lamp), which no projection through one can
+// resolve, while the light's own hemicube resolves what M hides of it as
+// the progressive shots do. "Shows M in x's direction" rather than "does
+// not show x": the nearest-texel check, which finds x in a neighbouring
+// texel M leaves free, would shrink every shadow by a texel, and unlike a
+// progressive shot this term has no conservation to give that light back.
+vec3 blocked_direct(vec3 x, vec3 ne, uint id)
+{
+    vec3 sum = vec3(0.0);
+    for (uint l = 0u; l < pc.light_count; l++) {
+        vec3 d, local;
+        vec2 cosines;
+        gpu_shooter f = lights[l];
+        if (facing(f, x, ne, d, cosines, local) && shows_m(light_ids, local, l) &&
+            shooting_visible(light_ids_c, pc.hemicube_res, pc.neighbours != 0u, local, l, id))
+            sum += form_factor(f, light_quads[l], x, ne, d, cosines) *
+                   materials[surfaces[f.surface].material].emission.rgb;
+    }
+    return sum;
 }
 
 void main()
@@ -209,17 +296,27 @@ void main()
     uint se = elements[e].surface;
     gpu_surface sr = surfaces[se];
     bool dynamic = sr.dynamic != 0u;
-    if (dynamic != (pc.phase == CROSS_RECONSTRUCT_M))
+    if (dynamic != (pc.phase != CROSS_RECONSTRUCT_C))
         return;
     uint ke = e - sr.first_element;
     vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
     vec3 ne = elements[e].normal.xyz;
     uint id = se + 1u;
-    vec3 rho = materials[sr.material].albedo.rgb;
+    gpu_material mat = materials[sr.material];
+    vec3 rho = mat.albedo.rgb;
+    if (pc.phase == CROSS_RECONSTRUCT_M_DIRECT) {
+        B[e].rgb += rho * lit_direct(x, ne, id);
+        return;
+    }
     vec3 gathered = vec3(0.0);
+    bool hidden = false;
     for (uint p = 0u; p < pc.patch_count; p++) {
         if (dynamic && frame(CROSS_FRAMES_FRONT, p).surface == se)
             continue;
+        if (!dynamic && covered(p, x, ne, CONTACT * pc.diameter)) {
+            hidden = true;
+            break;
+        }
         float f = seen(p, x, ne, id);
         if (f > 0.0)
             gathered += f * (dynamic ? values[p].total.rgb
@@ -229,7 +326,11 @@ void main()
         B[e].rgb += rho * gathered;
         return;
     }
-    vec3 X = rho * gathered;
+    // A covered element keeps its emission alone: X takes away all it got
+    // from C (B - E without the last X). Like any X it is replaced next time,
+    // so the light returns when the object leaves.
+    vec3 X = hidden ? mat.emission.rgb - (B[e].rgb - inserted[e].rgb)
+                    : rho * (gathered - blocked_direct(x, ne, id));
     vec3 dB = X - inserted[e].rgb;
     inserted[e] = vec4(X, 0.0);
     B[e].rgb += dB;

@@ -57,6 +57,7 @@ struct cross_quad {
 #define CROSS_UPDATE_SHOT_C 1u    /* per element: out = B - Bu on C, 0 on M (for the atlas) */
 #define CROSS_UPDATE_GATHERED 2u  /* per element of M: B = E + rho x gathered (interpolated), Bu = 0 */
 #define CROSS_UPDATE_TOTAL 3u     /* per patch: values.total = mean(B) */
+#define CROSS_UPDATE_INDIRECT_C 4u /* per element: out = B - Bu - E on C, 0 on M (back hemicubes) */
 
 #define CROSS_UPDATE_BINDING_SURFACES 0
 #define CROSS_UPDATE_BINDING_ELEMENTS 1
@@ -68,7 +69,10 @@ struct cross_quad {
 #define CROSS_UPDATE_BINDING_GATHERED 7
 #define CROSS_UPDATE_BINDING_OUT 8
 #define CROSS_UPDATE_BINDING_SURFACE_PATCH 9 /* uint[surface]: its patch (0, 0); static: none */
-#define CROSS_UPDATE_BINDING_COUNT 10
+/* uint: INDIRECT_C's largest |component| written, as float bits (atomicMax:
+ * the bits of non-negative floats order as the floats). */
+#define CROSS_UPDATE_BINDING_PEAK 10
+#define CROSS_UPDATE_BINDING_COUNT 11
 
 #define CROSS_UPDATE_GROUP 64u
 
@@ -90,11 +94,19 @@ struct cross_update_push {
 #define CROSS_RECONSTRUCT_BINDING_IDS 8  /* R32_UINT array, patch p in layers p*5.. */
 #define CROSS_RECONSTRUCT_BINDING_BACK 9 /* RGBA16F array: shot radiosity x scale, distance */
 #define CROSS_RECONSTRUCT_BINDING_INSERTED 10 /* vec4[element_count] */
-#define CROSS_RECONSTRUCT_BINDING_COUNT 11
+/* The lights of C (static emitters) in fixed patches: gpu_shooter and
+ * cross_quad [light_count], and their ID hemicubes of C alone and of C
+ * and M at the pose (R32_UINT arrays, light l in layers l*5..). */
+#define CROSS_RECONSTRUCT_BINDING_LIGHTS 11
+#define CROSS_RECONSTRUCT_BINDING_LIGHT_QUADS 12
+#define CROSS_RECONSTRUCT_BINDING_LIGHT_IDS_C 13
+#define CROSS_RECONSTRUCT_BINDING_LIGHT_IDS 14
+#define CROSS_RECONSTRUCT_BINDING_COUNT 15
 
 /* cross_reconstruct.comp phases */
-#define CROSS_RECONSTRUCT_M 0u /* elements of M: R_p(M, M) */
-#define CROSS_RECONSTRUCT_C 1u /* elements of C: R_p(M, C) + R_x(C, C) replace the last ones */
+#define CROSS_RECONSTRUCT_M_DIRECT 0u /* elements of M: the direct light of C's lights */
+#define CROSS_RECONSTRUCT_M 1u        /* elements of M: R_p(M, M) */
+#define CROSS_RECONSTRUCT_C 2u        /* elements of C: R_p(M, C) + R_x(C, C) replace the last ones */
 
 #define CROSS_RECONSTRUCT_GROUP 64u
 
@@ -112,7 +124,8 @@ struct cross_reconstruct_push {
     float diameter;        /* m: back hemicube alpha x this = distance */
     uint first;            /* elements [first, first + count) of this dispatch */
     uint count;
-    uint pad0, pad1, pad2;
+    uint light_count;      /* light patches (0: the light bindings are placeholders) */
+    uint pad0, pad1;
 };
 
 #endif

@@ -8,6 +8,10 @@
 //  SHOT_C    per element: B - Bu on C and 0 on M, the values the radiosity
 //            hemicubes see (R_g(C, M) gathers shot radiosity of C alone;
 //            M occludes but adds nothing, that is R_p(M, M));
+//  INDIRECT_C per element: B - Bu - E on C, 0 on M: what the gather and
+//            back hemicubes show, the direct light being the lights' own
+//            hemicubes' part (cross_reconstruct.comp); and the largest
+//            |component| of it (peak), for the hemicubes' fp16 scale;
 //  GATHERED  per element of M: B = E + rho * (the gathered sums of its
 //            surface's coarse samples, interpolated bilinearly at the
 //            element's sample), Bu = 0 (lines 12-14: the total is shot
@@ -34,6 +38,7 @@ layout(std430, binding = CROSS_UPDATE_BINDING_VALUES) buffer Values { cross_valu
 layout(std430, binding = CROSS_UPDATE_BINDING_GATHERED) readonly buffer Gathered { vec4 gathered[]; };
 layout(std430, binding = CROSS_UPDATE_BINDING_OUT) writeonly buffer Out { vec4 outv[]; };
 layout(std430, binding = CROSS_UPDATE_BINDING_SURFACE_PATCH) readonly buffer SurfacePatch { uint surface_patch[]; };
+layout(std430, binding = CROSS_UPDATE_BINDING_PEAK) buffer Peak { uint peak; };
 
 // Parameter of coarse sample c of n along a side: the centroid of its cell
 // (the part of the side within half a spacing, clipped), where the gather
@@ -82,13 +87,19 @@ void main()
         return;
     }
     gpu_surface sf = surfaces[elements[k].surface];
-    if (pc.mode == CROSS_UPDATE_SHOT_C) {
-        outv[k] = sf.dynamic != 0u ? vec4(0.0) : vec4(B[k].rgb - Bu[k].rgb, 0.0);
+    gpu_material m = materials[sf.material];
+    if (pc.mode == CROSS_UPDATE_SHOT_C || pc.mode == CROSS_UPDATE_INDIRECT_C) {
+        vec3 e = pc.mode == CROSS_UPDATE_INDIRECT_C ? m.emission.rgb : vec3(0.0);
+        vec3 v = sf.dynamic != 0u ? vec3(0.0) : B[k].rgb - Bu[k].rgb - e;
+        outv[k] = vec4(v, 0.0);
+        if (pc.mode == CROSS_UPDATE_INDIRECT_C) {
+            vec3 a = abs(v);
+            atomicMax(peak, floatBitsToUint(max(a.x, max(a.y, a.z))));
+        }
         return;
     }
     if (sf.dynamic == 0u)
         return;
-    gpu_material m = materials[sf.material];
     if (pc.mode == CROSS_UPDATE_RESET) {
         B[k] = vec4(m.emission.rgb, 0.0);
         Bu[k] = vec4(0.0);

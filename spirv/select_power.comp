@@ -1,8 +1,11 @@
 #version 450
 // Select pass, step 1 (src/passes/select.c): the area-weighted unshot power
-// of every surface, |luminance(sum_e Bu_e A_e)| in W, the quantity thesis
+// of every surface, sum_e |luminance(Bu_e)| A_e in W, the quantity thesis
 // 4.3.2 FINDSHOOTINGQUAD ranks quads by. The absolute value lets negative
-// light (later methods) be shot as well. One invocation per surface; the
+// light (the dynamic methods) be shot as well, element by element: a
+// surface holding a shadow's negative light next to positive light (a
+// floor a moving box darkens here and lights there) has both to shoot,
+// which the absolute value of their sum would hide. One invocation per surface; the
 // elements of a surface are contiguous (src/scene/scene.h).
 #extension GL_GOOGLE_include_directive : require
 #include "radiosity.h"
@@ -27,8 +30,8 @@ void main()
         return;
     uint first = surfaces[s].first_element;
     uint n = surfaces[s].nu * surfaces[s].nv;
-    vec3 sum = vec3(0.0);
+    float sum = 0.0;
     for (uint k = 0u; k < n; k++)
-        sum += Bu[first + k].rgb * elements[first + k].pos_area.w;
-    power[s] = abs(dot(sum, LUMA));
+        sum += abs(dot(Bu[first + k].rgb, LUMA)) * elements[first + k].pos_area.w;
+    power[s] = sum;
 }

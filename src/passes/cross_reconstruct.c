@@ -20,7 +20,9 @@ xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "cross reconstruct pass: out of host memory");
     VkDescriptorType types[CROSS_RECONSTRUCT_BINDING_COUNT];
     for (uint32_t b = 0; b < CROSS_RECONSTRUCT_BINDING_COUNT; b++)
-        types[b] = b == CROSS_RECONSTRUCT_BINDING_IDS || b == CROSS_RECONSTRUCT_BINDING_BACK
+        types[b] = b == CROSS_RECONSTRUCT_BINDING_IDS || b == CROSS_RECONSTRUCT_BINDING_BACK ||
+                           b == CROSS_RECONSTRUCT_BINDING_LIGHT_IDS_C ||
+                           b == CROSS_RECONSTRUCT_BINDING_LIGHT_IDS
                        ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE
                        : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     gpu_kernel_desc d = {
@@ -65,6 +67,10 @@ void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *p,
         [CROSS_RECONSTRUCT_BINDING_IDS] = {NULL, b->ids},
         [CROSS_RECONSTRUCT_BINDING_BACK] = {NULL, b->back},
         [CROSS_RECONSTRUCT_BINDING_INSERTED] = {b->inserted, 0},
+        [CROSS_RECONSTRUCT_BINDING_LIGHTS] = {b->lights, 0},
+        [CROSS_RECONSTRUCT_BINDING_LIGHT_QUADS] = {b->light_quads, 0},
+        [CROSS_RECONSTRUCT_BINDING_LIGHT_IDS_C] = {NULL, b->light_ids_c},
+        [CROSS_RECONSTRUCT_BINDING_LIGHT_IDS] = {NULL, b->light_ids},
     };
     gpu_kernel_bind(ctx, &p->kernel, 0, r);
 }
@@ -86,6 +92,7 @@ void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
         .diameter = (float)q->diameter,
         .first = q->first,
         .count = q->count ? q->count : q->element_count - q->first,
+        .light_count = q->light_count,
     };
     gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, push.count, CROSS_RECONSTRUCT_GROUP);
 }

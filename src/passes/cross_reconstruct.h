@@ -31,13 +31,18 @@ typedef struct cross_reconstruct_bindings {
     /* ID hemicubes (R32_UINT array) and back hemicubes (RGBA16F array),
      * patch p in layers 5p..5p+4, SHADER_READ_ONLY_OPTIMAL. */
     VkImageView ids, back;
-    /* vec4[element_count]: what the last phase C added, zeroed at create. */
+    /* vec4[element_count]: what the last phase C added. */
     const gpu_buffer *inserted;
+    /* The lights of C: gpu_shooter and cross_quad [light_count], their ID
+     * hemicubes of C alone and of C and M (as ids). Where there are no
+     * lights, any buffer and ID image: light_count 0 reads none. */
+    const gpu_buffer *lights, *light_quads;
+    VkImageView light_ids_c, light_ids;
 } cross_reconstruct_bindings;
 
 typedef struct cross_reconstruct_params {
     uint32_t phase; /* CROSS_RECONSTRUCT_M or CROSS_RECONSTRUCT_C */
-    uint32_t element_count, patch_count;
+    uint32_t element_count, patch_count, light_count;
     uint32_t hemicube_res, back_res;
     uint32_t grid;          /* PROJECTEDRADIOSITY rays per side */
     bool bilinear;          /* back hemicubes filtered across face edges */

@@ -61,6 +61,7 @@ void cross_update_bind(struct xrad_context *ctx, cross_update_pass *p,
         [CROSS_UPDATE_BINDING_GATHERED] = {b->gathered, 0},
         [CROSS_UPDATE_BINDING_OUT] = {b->out, 0},
         [CROSS_UPDATE_BINDING_SURFACE_PATCH] = {b->surface_patch, 0},
+        [CROSS_UPDATE_BINDING_PEAK] = {b->peak, 0},
     };
     gpu_kernel_bind(ctx, &p->kernel, 0, r);
 }

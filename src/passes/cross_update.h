@@ -28,6 +28,7 @@ typedef struct cross_update_bindings {
     const gpu_buffer *gathered;                        /* vec4[patch_count] */
     const gpu_buffer *out;                             /* vec4[element_count] (SHOT_C) */
     const gpu_buffer *surface_patch;                   /* uint[surface_count] */
+    const gpu_buffer *peak;                            /* uint (INDIRECT_C) */
 } cross_update_bindings;
 
 xrad_status cross_update_create(struct xrad_context *ctx, cross_update_pass **out,

@@ -5,21 +5,26 @@
  * patches of M only, and the progressive iterations after it shoot the
  * unshot radiosity it created (thesis 4.5.3).
  *
- * One redistribution, in one command buffer:
+ * One redistribution, in two submissions:
  *
  *   1. M is reset to its emission with nothing unshot (RESET); the atlas
- *      gets B - Bu of C, 0 on M (SHOT_C + atlas scatter).
- *   2. Per patch: an ID hemicube on its front; a shot radiosity hemicube at
- *      its coarse sample (the gather of R_g(C, M)); a low-resolution shot
- *      radiosity + distance hemicube on its back, static geometry only
- *      (thesis 4.5.2).
+ *      gets B - Bu - E of C, 0 on M (INDIRECT_C + atlas scatter), and its
+ *      largest value sets the fp16 scale of the radiosity hemicubes.
+ *   2. Per patch: an ID hemicube on its front; a radiosity hemicube at its
+ *      coarse sample (the gather of R_g(C, M)); a low-resolution radiosity
+ *      + distance hemicube on its back, static geometry only (thesis
+ *      4.5.2). Per light patch of C (its emitters, fixed blocks): an ID
+ *      hemicube with M at the pose; the one of C alone was drawn at create.
  *   3. R_g(C, M): integrate the gather hemicubes; the elements of M take
  *      B = E + rho x (their surface's coarse samples, interpolated)
- *      (GATHERED), and T.total = area mean of B per patch (TOTAL).
+ *      (GATHERED), then rho x the direct light of C's lights through the
+ *      lights' hemicubes (M_DIRECT), and T.total = area mean of B per patch
+ *      (TOTAL).
  *   4. R_p(M, M) into B of M, and TOTAL again: what M shoots to C holds
  *      one bounce inside M.
  *   5. R_p(M, C) + R_x(C, C): every element of C gets the new pose's terms
- *      of eq. 3.3.1 in place of the ones the last redistribution gave it,
+ *      of eq. 3.3.1, with the direct light M hides taken from the lights'
+ *      hemicubes, in place of the ones the last redistribution gave it,
  *      which each element keeps (cross_reconstruct.comp): the old pose's
  *      terms are removed exactly as they were inserted.
  *   6. Progressive iterations (solvers/progressive.h), desc.frame_shots,
@@ -35,21 +40,27 @@
  * hemicube at the shooter, while the next redistribution gives back what
  * the cross projection says M blocked of it. The two differ by their
  * discretisation, and on a box sliding to and fro for 10,000 frames the
- * power rose to 1.11 times the bound E / (1 - rho). Here the progressive
- * iterations solve C alone, and M enters only as the source X of step 5,
- * replaced whole at every redistribution: the solution is always that of
- * C with the source of the pose in hand, and nothing adds up. The cost is
- * nothing: one redistribution per frame, three hemicubes per patch.
+ * power rose to 1.11 times the bound E / (1 - rho) (tests/solvers/
+ * test_extremes.c). Here the progressive iterations solve C alone, and M
+ * enters only as the source X of step 5, replaced whole at every
+ * redistribution: the solution is always that of C with the source of the
+ * pose in hand, and nothing adds up (the same slide stays periodic, 0.97 to
+ * 0.985 of the bound, to frame 10,000).
+ *
+ * What that asks of step 5: every shadow M casts is in X, none in the
+ * shots' hemicubes. The cross projection cannot resolve a light smaller
+ * than a back hemicube's texel (a 1 mm^2 lamp lit M and shadowed C 18%
+ * off the CPU reference per element), so direct light goes through the
+ * lights' own hemicubes (M_DIRECT; blocked_direct in step 5) and the
+ * radiosity hemicubes show C without emission. A receiver of C in contact
+ * with M's front (a box standing on it) sees no patch of M, so X sets it
+ * to its emission.
  *
  * The first solve is progressive refinement of C alone, then rounds of
  * (redistribution, progressive iterations to the threshold): each round
  * puts in what M does to the light the last one left.
  *
- * The hemicubes hold shot radiosity x scale in fp16, scale = 1/2 of the
- * bound E_max / (1 - rho_max) on any radiosity (room for B - Bu > B where Bu
- * is negative), so no emission leaves fp16's range; gathered sums and
- * projected radiosity divide it out. The gpu_scene's atlas holds the shot
- * radiosity of C, not B, in this method.
+ * The gpu_scene's atlas holds B - Bu - E of C, not B, in this method.
  */
 #include <math.h>
 #include <stdlib.h>
@@ -70,6 +81,11 @@
 #include "solvers/progressive.h"
 #include "solvers/solver.h"
 
+/* The largest value the radiosity hemicubes show, after scaling: far below
+ * fp16's 65504 (bilinear taps and MSAA resolves stay within it), far above
+ * its smallest normal 6.1e-5. */
+#define HEMICUBE_PEAK 256.0
+
 /* Rounds of (redistribution, progressive iterations) in the first solve. */
 #define SOLVE_ROUNDS 4
 
@@ -77,7 +93,10 @@ typedef struct cross {
     progressive *prog;
     dynamic_patches dp;
     uint32_t P; /* patches of M */
+    dynamic_patches lights; /* the lights of C in fixed patches (direct light) */
+    uint32_t L;
     hemicube_pass *ids, *back, *gather;
+    hemicube_pass *light_ids_c, *light_ids; /* per light patch: C alone; C and M at the pose */
     integrate_pass *integrate;
     atlas_scatter_pass *scatter;
     cross_update_pass *update;
@@ -90,6 +109,9 @@ typedef struct cross {
     gpu_buffer inserted;      /* vec4[element_count]: what step 5 last added to C */
     gpu_buffer frames;        /* gpu_shooter[3 tables][P], host-written */
     gpu_buffer quads;         /* struct cross_quad[P], host-written */
+    gpu_buffer peak;          /* uint, host-visible: largest |B - Bu - E| on C (float bits) */
+    gpu_buffer light_frames;  /* gpu_shooter[L] */
+    gpu_buffer light_quads;   /* struct cross_quad[L] */
     double diameter;          /* m, the scale of the hemicubes' near plane and distances,
                                  fixed at create (the posed scene's diameter changes) */
     double scale;
@@ -105,29 +127,69 @@ static void destroy(xrad_solver *s)
     hemicube_destroy(ctx, &c->ids);
     hemicube_destroy(ctx, &c->back);
     hemicube_destroy(ctx, &c->gather);
+    hemicube_destroy(ctx, &c->light_ids_c);
+    hemicube_destroy(ctx, &c->light_ids);
     integrate_destroy(ctx, &c->integrate);
     atlas_scatter_destroy(ctx, &c->scatter);
     cross_update_destroy(ctx, &c->update);
     cross_reconstruct_destroy(ctx, &c->reconstruct);
-    gpu_buffer *buffers[] = {&c->patches, &c->values,   &c->gathered, &c->surface_patch,
-                             &c->shot,    &c->inserted, &c->frames,   &c->quads};
+    gpu_buffer *buffers[] = {&c->patches, &c->values,       &c->gathered,   &c->surface_patch,
+                             &c->shot,    &c->inserted,     &c->frames,     &c->quads,
+                             &c->light_frames, &c->light_quads, &c->peak};
     for (size_t k = 0; k < sizeof(buffers) / sizeof(buffers[0]); k++)
         gpu_buffer_destroy(ctx, buffers[k]);
     dynamic_patches_free(&c->dp);
+    dynamic_patches_free(&c->lights);
     free(c);
     s->impl = NULL;
 }
 
-/* The bound E_max / (1 - rho_max) on any radiosity of the scene. */
-static double radiosity_bound(const xrad_scene *scene)
+/* The lights' frames, quads and ID hemicubes; those of C alone are drawn
+ * here, once: C does not move. */
+static xrad_status create_lights(xrad_solver *s, cross *c, xrad_error *err)
 {
-    double e = 0, rho = 0;
-    for (uint32_t m = 0; m < scene->material_count; m++) {
-        const material *mt = &scene->materials[m];
-        e = fmax(e, fmax(mt->emission.x, fmax(mt->emission.y, mt->emission.z)));
-        rho = fmax(rho, fmax(mt->albedo.x, fmax(mt->albedo.y, mt->albedo.z)));
+    struct xrad_context *ctx = s->ctx;
+    const gpu_scene *gs = &s->gs;
+    uint32_t L = c->L;
+    struct gpu_shooter *f = calloc(L, sizeof(*f));
+    struct cross_quad *q = calloc(L, sizeof(*q));
+    xrad_status st = XRAD_OK;
+    if (!f || !q) {
+        st = xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory for the lights");
+        goto done;
     }
-    return e > 0 ? e / (1 - rho) : 1;
+    for (uint32_t l = 0; l < L; l++) {
+        const struct cross_patch *p = &c->lights.patches[l];
+        fixed_patch_frame(s->scene, p->surface, p->i0, p->i1, p->j0, p->j1, l, s->desc.seed,
+                          s->desc.time, &f[l], &q[l]);
+    }
+    hemicube_desc ids = {.kind = HEMICUBE_IDS, .res = s->desc.hemicube_res, .max_hemicubes = L,
+                         .msaa = 1, .path = HEMICUBE_PATH_AUTO, .diameter = c->diameter,
+                         .redistribution = true};
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                       VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    gpu_cmd cmd;
+    if ((st = gpu_buffer_create(ctx, L * sizeof(*f), storage, GPU_MEM_DEVICE,
+                                GPU_MEM_REDISTRIBUTION, &c->light_frames, err)) ||
+        (st = gpu_buffer_create(ctx, L * sizeof(*q), storage, GPU_MEM_DEVICE,
+                                GPU_MEM_REDISTRIBUTION, &c->light_quads, err)) ||
+        (st = gpu_upload_buffer(ctx, &c->light_frames, 0, f, L * sizeof(*f), err)) ||
+        (st = gpu_upload_buffer(ctx, &c->light_quads, 0, q, L * sizeof(*q), err)) ||
+        (st = hemicube_create_desc(ctx, &ids, &c->light_ids_c, err)) ||
+        (st = hemicube_create_desc(ctx, &ids, &c->light_ids, err)) ||
+        (st = gpu_cmd_begin(ctx, &cmd, err)))
+        goto done;
+    hemicube_record(c->light_ids_c, cmd.cmd,
+                    &(hemicube_draw){.vertices = &gs->vertices,
+                                     .vertex_count = gs->static_vertex_count,
+                                     .frames = &c->light_frames, .count = L});
+    st = solver_submit_wait(s, &cmd, err);
+done:
+    free(f);
+    free(q);
+    if (st)
+        xrad_error_prefix(err, "lights");
+    return st;
 }
 
 static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *err)
@@ -174,6 +236,8 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
         (st = gpu_buffer_create(ctx, P * sizeof(struct cross_quad),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
                                 GPU_MEM_REDISTRIBUTION, &c->quads, err)) ||
+        (st = gpu_buffer_create(ctx, sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                GPU_MEM_READBACK, GPU_MEM_REDISTRIBUTION, &c->peak, err)) ||
         (st = gpu_upload_buffer(ctx, &c->patches, 0, c->dp.patches,
                                 P * sizeof(struct cross_patch), err)) ||
         (st = gpu_upload_buffer(ctx, &c->surface_patch, 0, c->dp.surface_patch,
@@ -186,16 +250,22 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
         (st = cross_update_create(ctx, &c->update, err)) ||
         (st = cross_reconstruct_create(ctx, &c->reconstruct, err)))
         return st;
+    if (c->L && (st = create_lights(s, c, err)))
+        return st;
     cross_update_bind(ctx, c->update,
                       &(cross_update_bindings){&gs->surfaces, &gs->elements, &gs->materials,
                                                &gs->B, &gs->Bu, &c->patches, &c->values,
-                                               &c->gathered, &c->shot, &c->surface_patch});
+                                               &c->gathered, &c->shot, &c->surface_patch,
+                                               &c->peak});
     cross_reconstruct_bind(ctx, c->reconstruct,
                            &(cross_reconstruct_bindings){
                                &gs->surfaces, &gs->elements, &gs->materials, &gs->B, &gs->Bu,
                                &c->values, &c->frames, &c->quads, hemicube_ids_view(c->ids),
-                               hemicube_image(c->back)->view, &c->inserted});
-    c->scale = 0.5 / radiosity_bound(s->scene);
+                               hemicube_image(c->back)->view, &c->inserted,
+                               c->L ? &c->light_frames : &c->values,
+                               c->L ? &c->light_quads : &c->values,
+                               hemicube_ids_view(c->L ? c->light_ids_c : c->ids),
+                               hemicube_ids_view(c->L ? c->light_ids : c->ids)});
     return XRAD_OK;
 }
 
@@ -210,16 +280,22 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         (st = progressive_create(s, true, &c->prog, err)))
         goto fail;
     c->P = c->dp.count;
+    /* The lights matter where something moves in front of them. */
+    if (c->P && (st = dynamic_patches_build_lights(s->scene, s->desc.max_patches,
+                                                   s->gs.diameter, &c->lights, err)))
+        goto fail;
+    c->L = c->lights.count;
     const VkPhysicalDeviceLimits *lim = &s->ctx->props.limits;
     uint32_t layers = lim->maxImageArrayLayers < lim->maxFramebufferLayers
                           ? lim->maxImageArrayLayers
                           : lim->maxFramebufferLayers;
-    if ((uint64_t)c->P * HEMICUBE_FACES > layers) {
+    if ((uint64_t)(c->P > c->L ? c->P : c->L) * HEMICUBE_FACES > layers) {
         st = xrad_fail(err, XRAD_ERROR_INPUT,
                        "%s: the dynamic objects have %u cross patches (cross_density, or "
-                       "max_patches %u per side where none is given); the device draws at most "
-                       "%u hemicubes at once",
-                       s->scene->path, c->P, s->desc.max_patches, layers / HEMICUBE_FACES);
+                       "max_patches %u per side where none is given) and the lights %u; the "
+                       "device draws at most %u hemicubes at once",
+                       s->scene->path, c->P, s->desc.max_patches, c->L,
+                       layers / HEMICUBE_FACES);
         goto fail;
     }
     /* A scene without dynamic objects needs no redistribution state. */
@@ -257,29 +333,50 @@ static uint32_t frames_first(const cross *c, uint32_t table)
     return table * c->P;
 }
 
-/* Steps 1 and 2: M reset, the atlas holding B - Bu of C (0 on M), and the
- * ID and back hemicubes of the patches at the pose in hand, whose frames
- * are written. */
+/* The atlas gets `mode`'s values (CROSS_UPDATE_SHOT_C or _INDIRECT_C),
+ * for the radiosity hemicubes drawn next. */
+static void record_atlas(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t mode)
+{
+    const gpu_scene *gs = &s->gs;
+    cross_update_record(c->update, cmd, mode, c->P, gs->element_count);
+    compute_barrier(cmd);
+    atlas_scatter_record(c->scatter, cmd,
+                         &(atlas_scatter_draw){&gs->elements, &c->shot, gs->element_count,
+                                               &gs->atlas});
+    gpu_image_barrier(cmd, &gs->atlas, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
+                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                      VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+}
+
+/* Step 1: M reset, and the atlas holding B - Bu - E of C, 0 on M; its
+ * largest value into c->peak, zeroed before. */
+static void record_reset(xrad_solver *s, cross *c, VkCommandBuffer cmd)
+{
+    full_barrier(cmd);
+    gpu_timer_begin(s->timer, cmd, "cross.update");
+    cross_update_record(c->update, cmd, CROSS_UPDATE_RESET, c->P, s->gs.element_count);
+    record_atlas(s, c, cmd, CROSS_UPDATE_INDIRECT_C);
+    gpu_timer_end(s->timer, cmd);
+}
+
+/* Steps 2-3 at the pose in hand: the patches' ID, gather and back
+ * hemicubes over the atlas (scaled by c->scale), the lights' ID hemicubes
+ * with M, R_g(C, M). The frames are written. */
 static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
 {
     const gpu_scene *gs = &s->gs;
     uint32_t n = gs->element_count, P = c->P;
     full_barrier(cmd);
-    gpu_timer_begin(s->timer, cmd, "cross.update");
-    cross_update_record(c->update, cmd, CROSS_UPDATE_RESET, P, n);
-    cross_update_record(c->update, cmd, CROSS_UPDATE_SHOT_C, P, n);
-    compute_barrier(cmd);
-    atlas_scatter_record(c->scatter, cmd,
-                         &(atlas_scatter_draw){&gs->elements, &c->shot, n, &gs->atlas});
-    gpu_image_barrier(cmd, &gs->atlas, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
-                      VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                      VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
-    gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.hemicube");
     hemicube_record(c->ids, cmd,
                     &(hemicube_draw){.vertices = &gs->vertices, .vertex_count = gs->vertex_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_FRONT), .count = P});
+    if (c->L)
+        hemicube_record(c->light_ids, cmd,
+                        &(hemicube_draw){.vertices = &gs->vertices,
+                                         .vertex_count = gs->vertex_count,
+                                         .frames = &c->light_frames, .count = c->L});
     gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.back");
     hemicube_record(c->back, cmd,
@@ -289,30 +386,19 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
                                      .first = frames_first(c, CROSS_FRAMES_BACK), .count = P,
                                      .atlas = &gs->atlas, .scale = (float)c->scale});
     gpu_timer_end(s->timer, cmd);
-    s->stats.hemicubes += 2 * P;
-}
-
-/* Steps 3 and 4: R_g(C, M) at the patches' coarse samples, then R_p(M, M). */
-static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd)
-{
-    const gpu_scene *gs = &s->gs;
-    uint32_t n = gs->element_count, P = c->P;
-    full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.gather");
     hemicube_record(c->gather, cmd,
                     &(hemicube_draw){.vertices = &gs->vertices, .vertex_count = gs->vertex_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_GATHER), .count = P,
                                      .atlas = &gs->atlas, .scale = (float)c->scale});
-    s->stats.hemicubes += P;
     integrate_record(c->integrate, cmd,
                      &(integrate_draw){.hemicubes = hemicube_image(c->gather)->view, .count = P,
                                        .out = &c->gathered, .scale = (float)c->scale});
     compute_barrier(cmd);
     cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n);
-    compute_barrier(cmd);
-    cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, P, n);
     gpu_timer_end(s->timer, cmd);
+    s->stats.hemicubes += 3 * P + c->L;
 }
 
 /* Phase `phase` of the cross reconstruct pass for elements [first, first + count). */
@@ -326,6 +412,7 @@ static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, ui
                                  .phase = phase,
                                  .element_count = s->gs.element_count,
                                  .patch_count = c->P,
+                                 .light_count = c->L,
                                  .hemicube_res = s->desc.hemicube_res,
                                  .back_res = s->desc.back_res,
                                  .grid = s->desc.cross_grid,
@@ -358,13 +445,29 @@ static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *
     dynamic_patches_pose(s->scene, &c->dp, t, s->desc.seed, f + CROSS_FRAMES_FRONT * c->P,
                          f + CROSS_FRAMES_BACK * c->P, f + CROSS_FRAMES_GATHER * c->P,
                          c->quads.alloc.mapped);
+    /* The radiosity hemicubes are fp16: their scale follows what they will
+     * show (a 1 mm^2 lamp at 1e6 W/m^2 lights walls to 0.2 W/m^2, which
+     * any scale made from the lamp's own radiosity sends below fp16's
+     * range). Measured first, in a submission of its own. */
+    uint32_t *peak = c->peak.alloc.mapped;
+    *peak = 0;
     gpu_cmd cmd;
     xrad_status st = gpu_cmd_begin(s->ctx, &cmd, err);
     if (st)
         return st;
     gpu_timer_start(s->timer, cmd.cmd);
+    record_reset(s, c, cmd.cmd);
+    if ((st = run(s, &cmd, err)) || (st = gpu_cmd_begin(s->ctx, &cmd, err)))
+        return st;
+    float top;
+    memcpy(&top, peak, sizeof(top));
+    c->scale = top > 0 && isfinite(top) ? HEMICUBE_PEAK / top : 1.0;
+    gpu_timer_start(s->timer, cmd.cmd);
     record_hemicubes(s, c, cmd.cmd);
-    record_gather(s, c, cmd.cmd);
+    if (c->L)
+        record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_M_DIRECT, 0, n);
+    full_barrier(cmd.cmd);
+    cross_update_record(c->update, cmd.cmd, CROSS_UPDATE_TOTAL, c->P, n);
     record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_M, 0, n);
     full_barrier(cmd.cmd);
     cross_update_record(c->update, cmd.cmd, CROSS_UPDATE_TOTAL, c->P, n);

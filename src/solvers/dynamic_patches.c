@@ -8,50 +8,25 @@
 #include "passes/hemicube_geometry.h"
 #include "scene/scene_internal.h"
 
-xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
-                                  dynamic_patches *out, xrad_error *err)
+/* Light patches per side of a light as long as the scene's diameter. */
+#define LIGHT_BLOCKS 16
+
+/* Cuts every surface with a non-zero count in cx (2 per surface) into
+ * cx[2s] x cx[2s + 1] blocks of its elements. */
+static xrad_status build_blocks(const xrad_scene *scene, uint32_t *cx, dynamic_patches *out,
+                                xrad_error *err)
 {
-    memset(out, 0, sizeof(*out));
     uint32_t n = 0;
-    uint32_t *cx = calloc(scene->surface_count ? scene->surface_count : 1, 2 * sizeof(uint32_t));
-    out->surface_patch = malloc((scene->surface_count ? scene->surface_count : 1) *
-                                sizeof(uint32_t));
-    if (!cx || !out->surface_patch) {
-        free(cx);
-        dynamic_patches_free(out);
+    for (uint32_t s = 0; s < scene->surface_count; s++) {
+        out->surface_patch[s] = DYNAMIC_PATCH_NONE;
+        if (cx[2 * s]) {
+            out->surface_patch[s] = n;
+            n += cx[2 * s] * cx[2 * s + 1];
+        }
+    }
+    if (n && !(out->patches = calloc(n, sizeof(*out->patches))))
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for patches",
                          scene->path);
-    }
-    for (uint32_t s = 0; s < scene->surface_count; s++) {
-        const surface *sf = &scene->surfaces[s];
-        const object *ob = &scene->objects[sf->object];
-        out->surface_patch[s] = DYNAMIC_PATCH_NONE;
-        if (!ob->dynamic)
-            continue;
-        uint32_t a = max_patches, b = max_patches;
-        if (ob->cross_density > 0) {
-            double lu, lv;
-            scene_quad_edge_lengths(sf, &lu, &lv);
-            a = (uint32_t)scene_samples_along(lu, ob->cross_density);
-            b = (uint32_t)scene_samples_along(lv, ob->cross_density);
-        }
-        /* A block holds at least one element; a coarse grid has 2 samples a side. */
-        a = a < sf->nu ? a : sf->nu;
-        b = b < sf->nv ? b : sf->nv;
-        cx[2 * s] = a < 2 ? 2 : a;
-        cx[2 * s + 1] = b < 2 ? 2 : b;
-        out->surface_patch[s] = n;
-        n += cx[2 * s] * cx[2 * s + 1];
-    }
-    if (n) {
-        out->patches = calloc(n, sizeof(*out->patches));
-        if (!out->patches) {
-            free(cx);
-            dynamic_patches_free(out);
-            return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for patches",
-                             scene->path);
-        }
-    }
     out->count = n;
     for (uint32_t s = 0; s < scene->surface_count; s++) {
         if (out->surface_patch[s] == DYNAMIC_PATCH_NONE)
@@ -74,8 +49,82 @@ xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
             }
         }
     }
-    free(cx);
     return XRAD_OK;
+}
+
+/* Blocks along a light's side of `fraction` of the scene's diameter and n
+ * elements: LIGHT_BLOCKS per diameter, at least 1 and one element each, at
+ * most max_patches. By size, not by element count: the lights' hemicubes
+ * are memory and time that the element density must not change. */
+static uint32_t light_blocks(double fraction, uint32_t n, uint32_t max_patches)
+{
+    double k = ceil(LIGHT_BLOCKS * fraction - 1e-9);
+    uint32_t most = n < max_patches ? n : max_patches;
+    return k < 1 ? 1 : k > most ? most : (uint32_t)k;
+}
+
+/* Which surfaces get blocks: the dynamic ones, or (diameter > 0) the
+ * static emitters. */
+static xrad_status build(const xrad_scene *scene, uint32_t max_patches, double diameter,
+                         dynamic_patches *out, xrad_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    size_t ns = scene->surface_count ? scene->surface_count : 1;
+    uint32_t *cx = calloc(ns, 2 * sizeof(uint32_t));
+    out->surface_patch = malloc(ns * sizeof(uint32_t));
+    xrad_status st = XRAD_OK;
+    if (!cx || !out->surface_patch) {
+        st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for patches",
+                       scene->path);
+        goto done;
+    }
+    for (uint32_t s = 0; s < scene->surface_count; s++) {
+        const surface *sf = &scene->surfaces[s];
+        const object *ob = &scene->objects[sf->object];
+        vec3 e = scene->materials[sf->material].emission;
+        uint32_t a = max_patches, b = max_patches;
+        if (diameter > 0) {
+            if (ob->dynamic || !(e.x > 0 || e.y > 0 || e.z > 0))
+                continue;
+            double lu, lv;
+            scene_quad_edge_lengths(sf, &lu, &lv);
+            cx[2 * s] = light_blocks(lu / diameter, sf->nu, max_patches);
+            cx[2 * s + 1] = light_blocks(lv / diameter, sf->nv, max_patches);
+            continue;
+        }
+        if (!ob->dynamic)
+            continue;
+        if (ob->cross_density > 0) {
+            double lu, lv;
+            scene_quad_edge_lengths(sf, &lu, &lv);
+            a = (uint32_t)scene_samples_along(lu, ob->cross_density);
+            b = (uint32_t)scene_samples_along(lv, ob->cross_density);
+        }
+        /* A block holds at least one element; a coarse grid has 2 samples a side. */
+        a = a < sf->nu ? a : sf->nu;
+        b = b < sf->nv ? b : sf->nv;
+        cx[2 * s] = a < 2 ? 2 : a;
+        cx[2 * s + 1] = b < 2 ? 2 : b;
+    }
+    st = build_blocks(scene, cx, out, err);
+done:
+    free(cx);
+    if (st)
+        dynamic_patches_free(out);
+    return st;
+}
+
+xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
+                                  dynamic_patches *out, xrad_error *err)
+{
+    return build(scene, max_patches, 0, out, err);
+}
+
+xrad_status dynamic_patches_build_lights(const xrad_scene *scene, uint32_t max_patches,
+                                         double diameter, dynamic_patches *out,
+                                         xrad_error *err)
+{
+    return build(scene, max_patches, diameter > 0 ? diameter : 1, out, err);
 }
 
 void dynamic_patches_free(dynamic_patches *dp)

@@ -33,6 +33,14 @@ typedef struct dynamic_patches {
  * count 0 (and allocates nothing). */
 xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
                                   dynamic_patches *out, xrad_error *err);
+/* The same kind of layout for the static emitters (the lights of C;
+ * cross.c's direct light): each surface with emission cut into blocks by
+ * its size against the scene's diameter (m), 16 per diameter, at least one
+ * and at most max_patches and one element per block a side. ci, cj, cx, cy
+ * as above; no coarse samples. */
+xrad_status dynamic_patches_build_lights(const xrad_scene *scene, uint32_t max_patches,
+                                         double diameter, dynamic_patches *out,
+                                         xrad_error *err);
 /* Accepts a zeroed struct; zeroes it. */
 void dynamic_patches_free(dynamic_patches *dp);
 
