@@ -405,11 +405,13 @@ void xrad_solver_destroy(xrad_solver **solver);
 xrad_status xrad_solver_solve(xrad_solver *solver, xrad_error *err);
 
 /* One frame: poses dynamic objects at scene time `time` (s) and updates the
- * solution in hand to that pose. incremental and cross redistribute from
- * the previous pose (thesis 4.4, 4.5; the first call after create, without
- * a solution, solves instead) and continue with progressive iterations
- * (desc.frame_shots); gather and progressive solve anew at the new pose.
- * The stats describe this frame. */
+ * solution in hand to that pose. incremental redistributes from the
+ * previous pose (thesis 4.4); cross replaces what the moving objects gave
+ * the static ones at the previous pose by what they give at this one
+ * (thesis 4.5); both continue with progressive iterations
+ * (desc.frame_shots). The first call after create, without a solution,
+ * solves instead; gather and progressive solve anew at the new pose. The
+ * stats describe this frame. */
 xrad_status xrad_solver_advance(xrad_solver *solver, double time, xrad_error *err);
 
 /* Poses dynamic objects at scene time `time` (s) for the following solves;
