@@ -53,11 +53,10 @@ struct cross_quad {
 #define CROSS_FRAME_TABLES 3u
 
 /* cross_update.comp modes */
-#define CROSS_UPDATE_RESET 0u     /* per element of M: B = E, Bu = 0 */
-#define CROSS_UPDATE_SHOT_C 1u    /* per element: out = B - Bu on C, 0 on M (for the atlas) */
-#define CROSS_UPDATE_GATHERED 2u  /* per element of M: B = E + rho x gathered (interpolated), Bu = 0 */
-#define CROSS_UPDATE_TOTAL 3u     /* per patch: values.total = mean(B) */
-#define CROSS_UPDATE_INDIRECT_C 4u /* per element: out = B - Bu - E on C, 0 on M (back hemicubes) */
+#define CROSS_UPDATE_RESET 0u      /* per element of M: B = E, Bu = 0 */
+#define CROSS_UPDATE_INDIRECT_C 1u /* per element: out = B - Bu - E on C, 0 on M (the atlas), peak */
+#define CROSS_UPDATE_GATHERED 2u   /* per element of M: B = E + rho x gathered (interpolated), Bu = 0 */
+#define CROSS_UPDATE_TOTAL 3u      /* per patch: values.total = mean(B) */
 
 #define CROSS_UPDATE_BINDING_SURFACES 0
 #define CROSS_UPDATE_BINDING_ELEMENTS 1

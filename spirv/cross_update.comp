@@ -5,13 +5,12 @@
 //  RESET     per element of M: B = E, Bu = 0 (line 5; M's emission
 //            reaches C through the patches' totals, R_p(M, C), never
 //            through progressive shots, src/solvers/cross.c);
-//  SHOT_C    per element: B - Bu on C and 0 on M, the values the radiosity
-//            hemicubes see (R_g(C, M) gathers shot radiosity of C alone;
-//            M occludes but adds nothing, that is R_p(M, M));
 //  INDIRECT_C per element: B - Bu - E on C, 0 on M: what the gather and
-//            back hemicubes show, the direct light being the lights' own
-//            hemicubes' part (cross_reconstruct.comp); and the largest
-//            |component| of it (peak), for the hemicubes' fp16 scale;
+//            back hemicubes show (R_g(C, M) gathers shot radiosity of C
+//            alone; M occludes but adds nothing, that is R_p(M, M); the
+//            direct light is the lights' own hemicubes' part,
+//            cross_reconstruct.comp); and the largest |component| of it
+//            (peak), for the hemicubes' fp16 scale;
 //  GATHERED  per element of M: B = E + rho * (the gathered sums of its
 //            surface's coarse samples, interpolated bilinearly at the
 //            element's sample), Bu = 0 (lines 12-14: the total is shot
@@ -88,14 +87,11 @@ void main()
     }
     gpu_surface sf = surfaces[elements[k].surface];
     gpu_material m = materials[sf.material];
-    if (pc.mode == CROSS_UPDATE_SHOT_C || pc.mode == CROSS_UPDATE_INDIRECT_C) {
-        vec3 e = pc.mode == CROSS_UPDATE_INDIRECT_C ? m.emission.rgb : vec3(0.0);
-        vec3 v = sf.dynamic != 0u ? vec3(0.0) : B[k].rgb - Bu[k].rgb - e;
+    if (pc.mode == CROSS_UPDATE_INDIRECT_C) {
+        vec3 v = sf.dynamic != 0u ? vec3(0.0) : B[k].rgb - Bu[k].rgb - m.emission.rgb;
         outv[k] = vec4(v, 0.0);
-        if (pc.mode == CROSS_UPDATE_INDIRECT_C) {
-            vec3 a = abs(v);
-            atomicMax(peak, floatBitsToUint(max(a.x, max(a.y, a.z))));
-        }
+        vec3 a = abs(v);
+        atomicMax(peak, floatBitsToUint(max(a.x, max(a.y, a.z))));
         return;
     }
     if (sf.dynamic == 0u)

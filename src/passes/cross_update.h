@@ -4,8 +4,8 @@
  * patches and elements of the dynamic set M, one compute dispatch per step
  * (modes in spirv/cross_shared.h, what each does in spirv/
  * cross_update.comp): reset M to its emission, write the shot radiosity
- * of C for the hemicubes, set M from the gathered sums, and take the
- * patches' total radiosity.
+ * of C less its emission for the hemicubes (and its peak), set M from the
+ * gathered sums, and take the patches' total radiosity.
  */
 #ifndef XRAD_PASSES_CROSS_UPDATE_H
 #define XRAD_PASSES_CROSS_UPDATE_H
@@ -26,7 +26,7 @@ typedef struct cross_update_bindings {
     const gpu_buffer *patches;                         /* struct cross_patch[patch_count] */
     const gpu_buffer *values;                          /* struct cross_value[patch_count] */
     const gpu_buffer *gathered;                        /* vec4[patch_count] */
-    const gpu_buffer *out;                             /* vec4[element_count] (SHOT_C) */
+    const gpu_buffer *out;                             /* vec4[element_count] (INDIRECT_C) */
     const gpu_buffer *surface_patch;                   /* uint[surface_count] */
     const gpu_buffer *peak;                            /* uint (INDIRECT_C) */
 } cross_update_bindings;

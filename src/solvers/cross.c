@@ -114,7 +114,7 @@ typedef struct cross {
     gpu_buffer light_quads;   /* struct cross_quad[L] */
     double diameter;          /* m, the scale of the hemicubes' near plane and distances,
                                  fixed at create (the posed scene's diameter changes) */
-    double scale;
+    double scale;             /* the radiosity hemicubes hold values x this (HEMICUBE_PEAK) */
 } cross;
 
 static void destroy(xrad_solver *s)
@@ -333,29 +333,24 @@ static uint32_t frames_first(const cross *c, uint32_t table)
     return table * c->P;
 }
 
-/* The atlas gets `mode`'s values (CROSS_UPDATE_SHOT_C or _INDIRECT_C),
- * for the radiosity hemicubes drawn next. */
-static void record_atlas(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t mode)
+/* Step 1: M reset; the atlas holding B - Bu - E of C, 0 on M, for the
+ * radiosity hemicubes drawn next; its largest value into c->peak, zeroed
+ * before. */
+static void record_reset(xrad_solver *s, cross *c, VkCommandBuffer cmd)
 {
     const gpu_scene *gs = &s->gs;
-    cross_update_record(c->update, cmd, mode, c->P, gs->element_count);
+    uint32_t n = gs->element_count;
+    full_barrier(cmd);
+    gpu_timer_begin(s->timer, cmd, "cross.update");
+    cross_update_record(c->update, cmd, CROSS_UPDATE_RESET, c->P, n);
+    compute_barrier(cmd);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_INDIRECT_C, c->P, n);
     compute_barrier(cmd);
     atlas_scatter_record(c->scatter, cmd,
-                         &(atlas_scatter_draw){&gs->elements, &c->shot, gs->element_count,
-                                               &gs->atlas});
+                         &(atlas_scatter_draw){&gs->elements, &c->shot, n, &gs->atlas});
     gpu_image_barrier(cmd, &gs->atlas, VK_IMAGE_LAYOUT_GENERAL, VK_IMAGE_LAYOUT_GENERAL,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
-}
-
-/* Step 1: M reset, and the atlas holding B - Bu - E of C, 0 on M; its
- * largest value into c->peak, zeroed before. */
-static void record_reset(xrad_solver *s, cross *c, VkCommandBuffer cmd)
-{
-    full_barrier(cmd);
-    gpu_timer_begin(s->timer, cmd, "cross.update");
-    cross_update_record(c->update, cmd, CROSS_UPDATE_RESET, c->P, s->gs.element_count);
-    record_atlas(s, c, cmd, CROSS_UPDATE_INDIRECT_C);
     gpu_timer_end(s->timer, cmd);
 }
 
