@@ -44,7 +44,8 @@ xrad_status dynamic_patches_build_lights(const xrad_scene *scene, uint32_t max_p
 /* Accepts a zeroed struct; zeroes it. */
 void dynamic_patches_free(dynamic_patches *dp);
 
-/* Shoots M with this layout in progressive iterations too: the select pass
+/* Incremental: shoots M with this layout in progressive iterations too (cross
+ * leaves M out of them): the select pass
  * then cuts every dynamic surface into the same blocks, so that what a
  * redistribution removes with these patches is what was shot, block for
  * block (gpu_scene_fix_patches). Call before progressive_create. */
