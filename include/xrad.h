@@ -473,6 +473,51 @@ double xrad_image_auto_exposure(const float *rgba, uint32_t width, uint32_t heig
  * is constant. */
 double xrad_image_nrmse(const float *a, const float *b, uint32_t width, uint32_t height);
 
+/* ----------------------------------------------------------------- metrics */
+
+/* Image-space errors of an image `a` against a reference `b` (README
+ * "Accuracy"). The thesis's NRMSE divides by the reference's range, so a
+ * light in view hides large errors elsewhere; mean_ratio and rel_rms count
+ * only pixels that show a non-emitting surface and say what a reader sees. */
+typedef struct xrad_image_metrics {
+    double nrmse;      /* xrad_image_nrmse over every pixel; < 0 when b is constant */
+    double mean_ratio; /* sum of a / sum of b over the counted pixels, R + G + B */
+    double rel_rms;    /* RMS over counted pixels and RGB of (a - b), / the mean of b there */
+    uint64_t pixels;   /* counted: b's alpha > 0 and, with a mask, mask == 0 */
+} xrad_image_metrics;
+
+/* `emitter` (may be NULL): width x height floats, non-zero where the pixel
+ * shows an emitting surface (xrad render writes it as the EXR's "emitter"
+ * channel); those pixels are not counted. Background pixels (b's alpha 0)
+ * are never counted. XRAD_ERROR_INPUT when no pixel is counted or b is zero
+ * over them. */
+xrad_status xrad_image_compare(const float *a, const float *b, const float *emitter,
+                               uint32_t width, uint32_t height, xrad_image_metrics *out,
+                               xrad_error *err);
+
+/* Element-space errors of a solution against a reference solution of the
+ * same scene (atlases of its layout; no camera). Emitting surfaces and
+ * their elements are not counted. */
+typedef struct xrad_element_metrics {
+    /* Per surface: ratio = 1 + (mean a - mean b) / max(mean b, 1e-3 x the
+     * scene's mean b), area-weighted means of R + G + B. */
+    double surface_error;   /* max over counted surfaces of |ratio - 1| */
+    uint32_t worst_surface; /* its index (xrad_scene_get_surface names it) */
+    double worst_ratio;     /* its ratio */
+    double mean_ratio;      /* area-weighted over every counted element */
+    /* Element relative error |a - b| / max(b, 1e-3 x the scene's mean b),
+     * R + G + B, over counted elements: percentiles by count. */
+    double p50, p95, max;
+    uint32_t surfaces, elements; /* counted */
+} xrad_element_metrics;
+
+/* `surface_ratio` (may be NULL): info.surfaces doubles, each surface's
+ * ratio (1 for surfaces not counted). XRAD_ERROR_INPUT for atlases of
+ * another size or a scene without a non-emitting element. */
+xrad_status xrad_atlas_compare(const xrad_scene *scene, const xrad_atlas *a,
+                               const xrad_atlas *b, xrad_element_metrics *out,
+                               double *surface_ratio, xrad_error *err);
+
 #ifdef __cplusplus
 }
 #endif
