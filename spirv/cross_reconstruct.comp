@@ -54,7 +54,6 @@
 #include "radiosity.h"
 #include "cross_shared.h"
 #include "hemicube.glsl"
-#include "shooting.glsl"
 
 layout(local_size_x = CROSS_RECONSTRUCT_GROUP) in;
 
@@ -64,6 +63,7 @@ const float CONTACT = 1e-4;
 layout(push_constant) uniform Push { cross_reconstruct_push pc; };
 
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+#include "shooting.glsl"
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_B) buffer Total { vec4 B[]; };
@@ -226,7 +226,8 @@ float seen(uint p, vec3 x, vec3 ne, uint id)
     vec2 cosines;
     gpu_shooter f = frame(CROSS_FRAMES_FRONT, p);
     if (!facing(f, x, ne, d, cosines, local) ||
-        !shooting_visible(ids, pc.hemicube_res, pc.neighbours != 0u, local, p, id))
+        !shooting_visible(ids, pc.hemicube_res, pc.neighbours != 0u, local, p, id, f.pos_area.xyz,
+                          x, true))
         return 0.0;
     return form_factor(f, quads[p], x, ne, d, cosines);
 }
@@ -245,7 +246,8 @@ vec3 lit_direct(vec3 x, vec3 ne, uint id)
         vec2 cosines;
         gpu_shooter f = lights[l];
         if (facing(f, x, ne, d, cosines, local) &&
-            shooting_visible(light_ids, pc.hemicube_res, pc.neighbours != 0u, local, l, id))
+            shooting_visible(light_ids, pc.hemicube_res, pc.neighbours != 0u, local, l, id,
+                             f.pos_area.xyz, x, true))
             sum += form_factor(f, light_quads[l], x, ne, d, cosines) *
                    materials[surfaces[f.surface].material].emission.rgb;
     }
@@ -281,7 +283,8 @@ vec3 blocked_direct(vec3 x, vec3 ne, uint id)
         vec2 cosines;
         gpu_shooter f = lights[l];
         if (facing(f, x, ne, d, cosines, local) && shows_m(light_ids, local, l) &&
-            shooting_visible(light_ids_c, pc.hemicube_res, pc.neighbours != 0u, local, l, id))
+            shooting_visible(light_ids_c, pc.hemicube_res, pc.neighbours != 0u, local, l, id,
+                             f.pos_area.xyz, x, true))
             sum += form_factor(f, light_quads[l], x, ne, d, cosines) *
                    materials[surfaces[f.surface].material].emission.rgb;
     }

@@ -30,13 +30,13 @@
 #include "radiosity.h"
 #include "incremental_shared.h"
 #include "hemicube.glsl"
-#include "shooting.glsl"
 
 layout(local_size_x = INCR_GROUP) in;
 
 layout(push_constant) uniform Push { incr_push pc; };
 
 layout(std430, binding = INCR_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+#include "shooting.glsl"
 layout(std430, binding = INCR_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
 layout(std430, binding = INCR_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };
 layout(std430, binding = INCR_BINDING_B) buffer Total { vec4 B[]; };
@@ -123,16 +123,20 @@ void receive(uint e)
         vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
         vec3 r;
         if (pc.mode == INCR_MODE_NEGATIVE) {
-            if (!shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u))
+            if (!shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                  sh.pos_area.xyz, x, true))
                 continue;
             r = -values[k].shot.rgb;
         } else if (moving) {
-            if (!shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u))
+            if (!shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                  sh.pos_area.xyz, x, true))
                 continue;
             r = values[k].total.rgb;
         } else {
-            bool was = shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u);
-            bool is = shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u);
+            bool was = shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                        sh.pos_area.xyz, x, false);
+            bool is = shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                       sh.pos_area.xyz, x, true);
             if (!was && !is)
                 continue;
             r = was && !is   ? -values[k].shot.rgb  // occluded by M

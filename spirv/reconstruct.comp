@@ -45,13 +45,13 @@
 #include "select_shared.h"
 #include "reconstruct_shared.h"
 #include "hemicube.glsl"
-#include "shooting.glsl"
 
 layout(local_size_x = RECONSTRUCT_GROUP) in;
 
 layout(push_constant) uniform Push { reconstruct_push pc; };
 
 layout(std430, binding = RECONSTRUCT_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+#include "shooting.glsl"
 layout(std430, binding = RECONSTRUCT_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_B) buffer Total { vec4 B[]; };
@@ -109,17 +109,21 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     vec3 ns = sh.normal.xyz;
     vec3 d = x - sh.pos_area.xyz;
     float cs = dot(d, ns), ce = -dot(d, ne);
-    if (cs <= 0.0 || ce <= 0.0)
+    // Near the shooter, a patch whose centre lies behind the receiver's
+    // tangent plane can still light it (a light straddling the plane of a
+    // block's side): the exact form factor clips the patch to the front
+    // half-space. Far from it, the disk needs the centre in front.
+    float area = sh.pos_area.w;
+    bool near = shooting_near(d, area, pc.subdivide_ratio);
+    if (cs <= 0.0 || (ce <= 0.0 && !near))
         return 0.0;
     vec3 t = sh.tangent.xyz;
     vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
     if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
-                          se + 1u))
+                          se + 1u, sh.pos_area.xyz, x, true))
         return 0.0;
-    float area = sh.pos_area.w;
-    return shooting_near(d, area, pc.subdivide_ratio)
-               ? shooting_quad(x, ne, surfaces[sh.surface], sh)
-               : shooting_disk(d, cs, ce, area);
+    return near ? shooting_quad(x, ne, surfaces[sh.surface], sh)
+                : shooting_disk(d, cs, ce, area);
 }
 
 void main()

@@ -67,7 +67,7 @@ uvec2 patch_counts(gpu_surface sf, float power, float max_power)
         return uvec2(sf.patches_s, sf.patches_t);
     float lu = 0.5 * (distance(sf.corner[0].xyz, sf.corner[1].xyz) + distance(sf.corner[3].xyz, sf.corner[2].xyz));
     float lv = 0.5 * (distance(sf.corner[0].xyz, sf.corner[3].xyz) + distance(sf.corner[1].xyz, sf.corner[2].xyz));
-    float n = float(pc.max_patches * pc.max_patches) * clamp(power / max_power, 0.0, 1.0);
+    float n = float(pc.max_patches * pc.max_patches) * sqrt(clamp(power / max_power, 0.0, 1.0));
     float aspect = lu / lv;
     uint kx = uint(clamp(ceil(sqrt(n * aspect) - 1e-3), 1.0, float(min(sf.nu, pc.max_patches))));
     uint ky = uint(clamp(ceil(sqrt(n / aspect) - 1e-3), 1.0, float(min(sf.nv, pc.max_patches))));

@@ -1,18 +1,61 @@
 // What a receiving element computes from one shooting patch, shared by the
 // passes that shoot (reconstruct.comp, cross_reconstruct.comp,
 // incremental_reconstruct.comp): its receiver point, the visibility test in
-// the shooter's ID hemicube and the form factor. Include after radiosity.h
-// and hemicube.glsl. The reasons for each choice are in reconstruct.comp.
+// the shooter's ID hemicube and the form factor. Include after radiosity.h,
+// hemicube.glsl and the pass's `surfaces` buffer (gpu_surface). The reasons
+// for each choice are in reconstruct.comp.
 #ifndef XRAD_SHOOTING_GLSL
 #define XRAD_SHOOTING_GLSL
 
 const float SHOOTING_PI = 3.14159265358979323846;
 
-// The surface's ID (surface + 1) in the ID hemicube `hemicube` of `ids` in
-// the local direction, or, with `neighbours`, in one of the 8 texels
-// around it (nearest-texel check, thesis 4.3.3).
+// Whether the segment from o to x crosses surface `sf` (a planar convex
+// quad) before x: within (1e-4, 1 - 1e-5) of its length, so that the
+// shooter's own plane and a surface touching or coplanar with x's do not
+// count.
+bool shooting_blocks(gpu_surface sf, vec3 o, vec3 x)
+{
+    vec3 n = sf.normal_area.xyz, dir = x - o;
+    float along = dot(n, dir);
+    if (along == 0.0)
+        return false;
+    float s = dot(n, sf.corner[0].xyz - o) / along;
+    if (!(s > 1e-4 && s < 1.0 - 1e-5))
+        return false;
+    vec3 p = o + s * dir;
+    for (int k = 0; k < 4; k++) {
+        vec3 a = sf.corner[k].xyz, b = sf.corner[(k + 1) & 3].xyz;
+        if (dot(cross(b - a, p - a), n) < 0.0)
+            return false;
+    }
+    return true;
+}
+
+// Whether the receiver point x (of the surface whose ID is `id`, surface +
+// 1) is visible in the ID hemicube `hemicube` of `ids` drawn from o, x lying
+// in the local direction `local` of the hemicube's frame.
+//
+// The texel x projects to shows the receiver's surface: visible. Else,
+// without `neighbours`, not visible. With them, the 3 x 3 texels around
+// are the candidate occluders: x is visible unless the segment o -> x
+// crosses a surface one of them shows (shooting_blocks, against the
+// surface's own quad). The texel alone cannot say: a surface thinner than
+// a texel (seen edge-on from a light almost in its plane) is hidden by
+// what lies beside or behind it, while the nearest-texel check of thesis
+// 4.3.3 (x's ID in one of the 8 texels) let light through every
+// occluder's silhouette, a texel wide: the contact shadows at the foot of
+// the Cornell box's blocks were lost (floor elements there 1.7-4.3 times
+// the CPU reference's) and floor under the blocks was lit. The Barsi and
+// Wallner seeds compare depths for the same reason; here the occluder's
+// own quad decides, which also keeps the shadow's edge where the geometry
+// puts it instead of a texel off.
+//
+// `dynamic_posed`: the surfaces buffer holds moving surfaces at the pose
+// the hemicube was drawn in. Where it does not (a hemicube of an old pose),
+// a moving surface shown cannot be tested, and then only x's ID among the
+// 9 texels makes x visible.
 bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local, uint hemicube,
-                      uint id)
+                      uint id, vec3 o, vec3 x, bool dynamic_posed)
 {
     uvec2 px;
     int face = hemicube_lookup(local, res, px);
@@ -22,14 +65,23 @@ bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local
     if (!neighbours)
         return false;
     int last = int(res) - 1;
+    bool found = false, untested = false;
     for (int dy = -1; dy <= 1; dy++) {
         for (int dx = -1; dx <= 1; dx++) {
             ivec2 q = clamp(ivec2(px) + ivec2(dx, dy), ivec2(0), ivec2(last));
-            if (texelFetch(ids, ivec3(q, layer), 0).r == id)
-                return true;
+            uint shown = texelFetch(ids, ivec3(q, layer), 0).r;
+            if (shown == id) {
+                found = true;
+            } else if (shown != 0u) {
+                gpu_surface sf = surfaces[shown - 1u];
+                if (!dynamic_posed && sf.dynamic != 0u)
+                    untested = true;
+                else if (shooting_blocks(sf, o, x))
+                    return false;
+            }
         }
     }
-    return false;
+    return found || !untested;
 }
 
 vec3 shooting_bilinear(gpu_surface sf, float s, float t)

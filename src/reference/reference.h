@@ -42,12 +42,6 @@ typedef struct ref_geometry {
     vec3 (*cell)[4];       /* per element, its cell's world corners, wound like its surface */
 } ref_geometry;
 
-/* Boundary samples lie on their surface's edge, and so in the plane of a
- * surface that meets it there (a wall on a floor); the radiosity such a
- * sample stands for is the limit from inside its surface. The receiving
- * point of a boundary element is moved this fraction of the way towards its
- * surface's centre. */
-#define REF_EDGE_NUDGE 1e-8
 /* Ray origins sit this fraction of the scene's diagonal above the surface. */
 #define REF_RAY_HAIR 1e-7
 

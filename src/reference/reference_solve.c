@@ -113,17 +113,23 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
         const element *el = &scene->elements[e];
         const surface *sf = &scene->surfaces[el->surface];
         const ref_quad *q = &g->quads[el->surface];
-        xform pose = scene_object_pose(scene, sf->object, time);
-        vec3 p = xf_point(&pose, el->pos);
-        if (el->i == 0 || el->i == sf->nu - 1 || el->j == 0 || el->j == sf->nv - 1)
-            p = v3_lerp(p, bilinear(q->p, 0.5, 0.5), REF_EDGE_NUDGE);
+        double s0, s1, t0, t1;
+        cell_range(el->i, sf->nu, &s0, &s1);
+        cell_range(el->j, sf->nv, &t0, &t1);
+        /* The receiver point is the centroid of the element's cell, as
+         * in the GPU methods (spirv/shooting.glsl): an element's value is
+         * the mean over its cell by the midpoint rule, the quantity every
+         * method shoots from and the metrics compare. The sample point
+         * itself lies on the surface's edge for the outer rows, where the
+         * point value is discontinuous at a concave corner (the
+         * neighbour's form factor drops from 1/2 just inside to 0 in its
+         * plane) and, on a planarised quad, may sit a hair behind the
+         * neighbour (cornell-box's floor along the red wall read 0). */
+        vec3 p = bilinear(q->p, 0.5 * (s0 + s1), 0.5 * (t0 + t1));
         g->surface_of[e] = el->surface;
         g->recv[e] = p;
         g->normal[e] = q->normal;
         g->origin[e] = v3_mad(p, q->normal, REF_RAY_HAIR * g->scale);
-        double s0, s1, t0, t1;
-        cell_range(el->i, sf->nu, &s0, &s1);
-        cell_range(el->j, sf->nv, &t0, &t1);
         g->cell[e][0] = bilinear(q->p, s0, t0);
         g->cell[e][1] = bilinear(q->p, s1, t0);
         g->cell[e][2] = bilinear(q->p, s1, t1);
