@@ -181,7 +181,7 @@ bool facing(gpu_shooter f, vec3 x, vec3 ne, out vec3 d, out vec2 cosines, out ve
     d = x - f.pos_area.xyz;
     cosines = vec2(dot(d, f.normal.xyz), -dot(d, ne));
     local = vec3(0.0);
-    if (cosines.x <= 0.0 || cosines.y <= 0.0)
+    if (!shooting_faces(d, cosines.x, cosines.y, shooting_near(d, f.pos_area.w, pc.subdivide_ratio)))
         return false;
     local = basis(f) * d;
     return true;
@@ -300,6 +300,12 @@ void main()
     gpu_surface sr = surfaces[se];
     bool dynamic = sr.dynamic != 0u;
     if (dynamic != (pc.phase != CROSS_RECONSTRUCT_C))
+        return;
+    // In contact (scene_find_buried): no light reaches it. An element of C
+    // under M (BURIED_M) goes on to covered() below, which takes away the
+    // light it had before M came.
+    uint buried = elements[e].flags & (dynamic ? GPU_ELEMENT_BURIED_ANY : GPU_ELEMENT_BURIED);
+    if (buried != 0u)
         return;
     uint ke = e - sr.first_element;
     vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);

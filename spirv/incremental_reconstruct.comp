@@ -104,6 +104,8 @@ void receive(uint e)
     bool moving = sr.dynamic != 0u;
     if (pc.mode == INCR_MODE_NEGATIVE && moving)
         return; // M is reset next; only C keeps what M shot
+    if ((elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u)
+        return; // in contact (scene_find_buried): no light reaches it
     vec3 ne = elements[e].normal.xyz;
     uint ke = e - sr.first_element;
     vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
@@ -117,7 +119,8 @@ void receive(uint e)
         vec3 ns = sh.normal.xyz;
         vec3 d = x - sh.pos_area.xyz;
         float cs = dot(d, ns), ce = -dot(d, ne);
-        if (cs <= 0.0 || ce <= 0.0)
+        bool near = shooting_near(d, sh.pos_area.w, pc.subdivide_ratio);
+        if (!shooting_faces(d, cs, ce, near))
             continue;
         vec3 t = sh.tangent.xyz;
         vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
@@ -145,10 +148,8 @@ void receive(uint e)
         }
         if (all(equal(r, vec3(0.0))))
             continue;
-        float area = sh.pos_area.w;
-        float ff = shooting_near(d, area, pc.subdivide_ratio)
-                       ? shooting_quad(x, ne, surfaces[sh.surface], sh)
-                       : shooting_disk(d, cs, ce, area);
+        float ff = near ? shooting_quad(x, ne, surfaces[sh.surface], sh)
+                        : shooting_disk(d, cs, ce, sh.pos_area.w);
         gathered += r * ff;
     }
     if (all(equal(gathered, vec3(0.0))))

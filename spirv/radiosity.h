@@ -38,8 +38,16 @@ struct gpu_surface {
 struct gpu_element {
     vec4 pos_area; /* world sample point (corner samples moved inward), area m^2 */
     vec4 normal;   /* world unit normal of its surface, w = 0 */
-    uint surface, texel_x, texel_y, pad;
+    uint surface, texel_x, texel_y, flags; /* GPU_ELEMENT_* */
 };
+
+/* The element's receiver point lies on another surface's front face, face
+ * to face (scene_find_buried): no light reaches it, it keeps its emission.
+ * BURIED: under a surface of a static object; BURIED_M: under a moving one
+ * at the pose the buffers hold (cross takes such light away itself). */
+#define GPU_ELEMENT_BURIED 1u
+#define GPU_ELEMENT_BURIED_M 2u
+#define GPU_ELEMENT_BURIED_ANY 3u
 
 struct gpu_material {
     vec4 albedo;   /* rgb in [0, 1) */

@@ -109,13 +109,9 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     vec3 ns = sh.normal.xyz;
     vec3 d = x - sh.pos_area.xyz;
     float cs = dot(d, ns), ce = -dot(d, ne);
-    // Near the shooter, a patch whose centre lies behind the receiver's
-    // tangent plane can still light it (a light straddling the plane of a
-    // block's side): the exact form factor clips the patch to the front
-    // half-space. Far from it, the disk needs the centre in front.
     float area = sh.pos_area.w;
     bool near = shooting_near(d, area, pc.subdivide_ratio);
-    if (cs <= 0.0 || (ce <= 0.0 && !near))
+    if (!shooting_faces(d, cs, ce, near))
         return 0.0;
     vec3 t = sh.tangent.xyz;
     vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
@@ -164,6 +160,12 @@ void main()
     gpu_surface sr = surfaces[se];
     uint ke = e - sr.first_element;
     vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+    if ((elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u) {
+        if (pc.mode == RECONSTRUCT_MODE_FF)
+            for (uint k = 0u; k < count; k++)
+                ff[k * pc.element_count + e] = 0.0;
+        return;
+    }
     vec3 gathered = vec3(0.0);
     for (uint k = 0u; k < count; k++) {
         if (pc.mode == RECONSTRUCT_MODE_FF) {

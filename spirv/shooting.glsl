@@ -60,10 +60,8 @@ bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local
     uvec2 px;
     int face = hemicube_lookup(local, res, px);
     int layer = int(hemicube) * HEMICUBE_FACES + face;
-    if (texelFetch(ids, ivec3(px, layer), 0).r == id)
-        return true;
     if (!neighbours)
-        return false;
+        return texelFetch(ids, ivec3(px, layer), 0).r == id;
     int last = int(res) - 1;
     bool found = false, untested = false;
     for (int dy = -1; dy <= 1; dy++) {
@@ -82,6 +80,21 @@ bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local
         }
     }
     return found || !untested;
+}
+
+// Whether a receiver at offset d = x - centre from a shooter (cs = d . n_s,
+// ce = -d . n_e) can take light from it. It must lie in front of the
+// shooter's plane by more than 1e-4 of its distance: a receiver in that
+// plane (the bottom of a box standing on the shooter) sees it edge-on,
+// F = 0, and rounding must not turn that into the near-field form factor
+// of a point touching the shooter. Near the shooter, a patch whose centre
+// lies behind the receiver's tangent plane can still light it (a light
+// straddling the plane of a block's side; the exact form factor clips the
+// patch to the front half-space); far from it, the disk needs the centre
+// in front.
+bool shooting_faces(vec3 d, float cs, float ce, bool near)
+{
+    return cs > 1e-4 * length(d) && (near || ce > 0.0);
 }
 
 vec3 shooting_bilinear(gpu_surface sf, float s, float t)

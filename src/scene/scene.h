@@ -142,4 +142,19 @@ xform scene_object_pose(const xrad_scene *scene, uint32_t object, double t);
 void scene_surface_world(const xrad_scene *scene, uint32_t surface, double t,
                          vec3 corners[4], vec3 *normal);
 
+/* The receiver point of element e of surface s, object space: the
+ * centroid of its cell (the part of the surface it stands for). Every
+ * solver, GPU and CPU, evaluates an element there. */
+vec3 scene_element_centroid(const surface *s, const element *e);
+
+/* Contact: sets buried[e] (element_count bytes) for every element whose
+ * receiver point lies on the front face of another surface facing it, face
+ * to face within `tol` m at scene time `time` (the bottom of a box standing
+ * on a floor, and the floor under it): 1 where a surface of a static object
+ * covers it, else 2 where a dynamic one does, else 0. Such a receiver sees
+ * the cover edge-on and nothing past it: no light reaches it. `count`
+ * receives how many are buried. */
+xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
+                              uint8_t *buried, uint32_t *count, xrad_error *err);
+
 #endif

@@ -333,7 +333,11 @@ static double update(const xrad_solver *s, gather *g)
     const vec4 *sum = g->readback.alloc.mapped;
     double change = 0;
     for (uint32_t e = 0; e < s->gs.element_count; e++) {
-        const float gathered[3] = {sum[e].x, sum[e].y, sum[e].z};
+        /* A buried element's hemicube sits in the contact and shows what
+         * lies past it through the rounding of the depth test: it keeps
+         * its emission (scene_find_buried). */
+        bool open = !s->gs.buried[e];
+        const float gathered[3] = {open ? sum[e].x : 0, open ? sum[e].y : 0, open ? sum[e].z : 0};
         for (int c = 0; c < 3; c++) {
             double b = g->emission[3 * e + c] + g->albedo[3 * e + c] * gathered[c];
             change = fmax(change, fabs(b - g->B[3 * e + c]));

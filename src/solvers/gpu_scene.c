@@ -114,6 +114,22 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
     return XRAD_OK;
 }
 
+/* Marks buried elements (scene_find_buried) in the host tables and in
+ * gs->buried, at the pose the tables hold. */
+static xrad_status mark_buried(gpu_scene *gs, double time, double diameter, geometry *g,
+                               xrad_error *err)
+{
+    xrad_status s = scene_find_buried(gs->scene, time, GPU_SCENE_CONTACT * diameter, gs->buried,
+                                      &gs->buried_count, err);
+    if (s)
+        return s;
+    for (uint32_t e = 0; e < gs->element_count; e++)
+        g->elements[e].flags = gs->buried[e] == 1   ? GPU_ELEMENT_BURIED
+                               : gs->buried[e] == 2 ? GPU_ELEMENT_BURIED_M
+                                                    : 0u;
+    return XRAD_OK;
+}
+
 static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, double time,
                                    xrad_error *err)
 {
@@ -121,8 +137,12 @@ static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, doub
     geometry g;
     double diameter = 0;
     xrad_status s = fill_geometry(scene, gs->fixed_patches, time, &g, &diameter, err);
-    if (s)
+    if (!s)
+        s = mark_buried(gs, time, diameter, &g, err);
+    if (s) {
+        geometry_free(&g);
         return s;
+    }
     if (!(s = gpu_upload_buffer(ctx, &gs->surfaces, 0, g.surfaces,
                                 at_least_one(gs->surface_count) * sizeof(*g.surfaces), err)) &&
         !(s = gpu_upload_buffer(ctx, &gs->elements, 0, g.elements,
@@ -233,6 +253,9 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                     (uint64_t)at_least_one(scene->atlas_width) *
                         at_least_one(scene->atlas_height) * 16;
     gpu_image_desc ad = gpu_scene_atlas_desc(scene);
+    out->buried = calloc(ne, 1);
+    if (!out->buried)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "GPU scene: out of host memory");
     xrad_status s;
     if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "scene data", err)) ||
         (s = gpu_buffer_create(ctx, ns * sizeof(struct gpu_surface), storage, GPU_MEM_DEVICE,
@@ -276,6 +299,7 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
     if (!gs)
         return;
     free(gs->fixed_patches);
+    free(gs->buried);
     gpu_image_destroy(ctx, &gs->atlas);
     gpu_buffer_destroy(ctx, &gs->vertices);
     gpu_buffer_destroy(ctx, &gs->Bu);

@@ -57,7 +57,14 @@ typedef struct gpu_scene {
     double diameter;           /* m, bounding-box diagonal of the scene at `time` */
     uint32_t *fixed_patches;   /* NULL, or 3 per surface: gpu_surface.patches_s, patches_t,
                                   patch_first */
+    uint8_t *buried;           /* element_count: scene_find_buried at `time` (1: under a
+                                  static surface, 2: under a moving one; gpu_element.flags) */
+    uint32_t buried_count;
 } gpu_scene;
+
+/* Contact distance for buried elements, a fraction of the scene's
+ * diameter: as cross's covered() test (cross_reconstruct.comp). */
+#define GPU_SCENE_CONTACT 1e-4
 
 /* A radiosity atlas image of the scene's size (at least 1 x 1), RGBA32F,
  * usable for scatter, sampling and copies: the gpu_scene's, and the
