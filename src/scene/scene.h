@@ -157,4 +157,15 @@ vec3 scene_element_centroid(const surface *s, const element *e);
 xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
                               uint8_t *buried, uint32_t *count, xrad_error *err);
 
+/* Enclosure: sets enclosed[e] (element_count bytes) for every element of
+ * a static object whose receiver point sees only back faces of static
+ * surfaces along 25 rays spread over its hemisphere: it lies inside a
+ * closed volume (the floor under a plinth without a bottom face), where no
+ * light reaches it, but no face touches it (scene_find_buried). Scenes
+ * with more than SCENE_ENCLOSED_MAX_WORK element x surface pairs are not
+ * tested (every element open). `count` receives how many are enclosed. */
+#define SCENE_ENCLOSED_MAX_WORK 2e8
+xrad_status scene_find_enclosed(const xrad_scene *scene, uint8_t *enclosed, uint32_t *count,
+                                xrad_error *err);
+
 #endif

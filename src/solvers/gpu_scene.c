@@ -114,8 +114,9 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
     return XRAD_OK;
 }
 
-/* Marks buried elements (scene_find_buried) in the host tables and in
- * gs->buried, at the pose the tables hold. */
+/* Marks buried elements (scene_find_buried, and the enclosed ones of
+ * scene_find_enclosed as buried under static surfaces) in the host tables
+ * and in gs->buried, at the pose the tables hold. */
 static xrad_status mark_buried(gpu_scene *gs, double time, double diameter, geometry *g,
                                xrad_error *err)
 {
@@ -123,6 +124,12 @@ static xrad_status mark_buried(gpu_scene *gs, double time, double diameter, geom
                                       &gs->buried_count, err);
     if (s)
         return s;
+    for (uint32_t e = 0; e < gs->element_count; e++) {
+        if (gs->enclosed[e] && gs->buried[e] != 1) {
+            gs->buried_count += !gs->buried[e];
+            gs->buried[e] = 1;
+        }
+    }
     for (uint32_t e = 0; e < gs->element_count; e++)
         g->elements[e].flags = gs->buried[e] == 1   ? GPU_ELEMENT_BURIED
                                : gs->buried[e] == 2 ? GPU_ELEMENT_BURIED_M
@@ -254,9 +261,17 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                         at_least_one(scene->atlas_height) * 16;
     gpu_image_desc ad = gpu_scene_atlas_desc(scene);
     out->buried = calloc(ne, 1);
-    if (!out->buried)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "GPU scene: out of host memory");
+    out->enclosed = calloc(ne, 1);
     xrad_status s;
+    if (!out->buried || !out->enclosed) {
+        gpu_scene_destroy(ctx, out);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "GPU scene: out of host memory");
+    }
+    uint32_t enclosed_count;
+    if ((s = scene_find_enclosed(scene, out->enclosed, &enclosed_count, err))) {
+        gpu_scene_destroy(ctx, out);
+        return s;
+    }
     if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "scene data", err)) ||
         (s = gpu_buffer_create(ctx, ns * sizeof(struct gpu_surface), storage, GPU_MEM_DEVICE,
                                GPU_MEM_GEOMETRY, &out->surfaces, err)) ||
@@ -300,6 +315,7 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
         return;
     free(gs->fixed_patches);
     free(gs->buried);
+    free(gs->enclosed);
     gpu_image_destroy(ctx, &gs->atlas);
     gpu_buffer_destroy(ctx, &gs->vertices);
     gpu_buffer_destroy(ctx, &gs->Bu);

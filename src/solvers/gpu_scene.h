@@ -60,6 +60,7 @@ typedef struct gpu_scene {
     uint8_t *buried;           /* element_count: scene_find_buried at `time` (1: under a
                                   static surface, 2: under a moving one; gpu_element.flags) */
     uint32_t buried_count;
+    uint8_t *enclosed;         /* element_count: scene_find_enclosed, found once (static) */
 } gpu_scene;
 
 /* Contact distance for buried elements, a fraction of the scene's
