@@ -152,15 +152,35 @@ void main()
         uint px = k % kx, py = k / kx;
         uint i0 = px * sf.nu / kx, i1 = (px + 1u) * sf.nu / kx - 1u;
         uint j0 = py * sf.nv / ky, j1 = (py + 1u) * sf.nv / ky - 1u;
+        // A patch shoots from its open elements only: where it runs under a
+        // block standing on the surface, its buried elements (no light
+        // reaches them, gpu_element.flags) would dilute the mean radiosity
+        // that the receivers beside the block take (cornell-large's plinth
+        // faces 0.79 of the CPU reference's), and its quad is cut to their
+        // bounds so that the near-field form factor covers no buried part
+        // where it can. Fixed patches keep their layout (their shots are
+        // removed again as they were).
         vec3 sum = vec3(0.0);
         float area = 0.0;
+        bool fixed_patch = sf.patches_s != 0u;
+        uvec2 lo = uvec2(i1, j1), hi = uvec2(i0, j0);
         for (uint j = j0; j <= j1; j++) {
             for (uint i = i0; i <= i1; i++) {
                 uint e = sf.first_element + j * sf.nu + i;
+                if (!fixed_patch && (elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u)
+                    continue;
                 float a = elements[e].pos_area.w;
                 sum += Bu[e].rgb * a;
                 area += a;
+                lo = min(lo, uvec2(i, j));
+                hi = max(hi, uvec2(i, j));
             }
+        }
+        if (area > 0.0 && !fixed_patch) {
+            i0 = lo.x;
+            j0 = lo.y;
+            i1 = hi.x;
+            j1 = hi.y;
         }
         vec2 rs = param_range(i0, i1, sf.nu), rt = param_range(j0, j1, sf.nv);
         // A fixed patch turns as patch_rotation() in hemicube_geometry.c
@@ -172,7 +192,7 @@ void main()
         sh.pos_area = vec4(bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y)), area);
         sh.normal = vec4(normal, 0.0);
         sh.tangent = vec4(cos(angle) * u0 + sin(angle) * v0, 0.0);
-        sh.radiosity = vec4(sum / area, 0.0);
+        sh.radiosity = vec4(area > 0.0 ? sum / area : vec3(0.0), 0.0);
         sh.surface = s_surface;
         sh.i0 = i0;
         sh.i1 = i1;
