@@ -61,6 +61,60 @@ layout(std430, binding = RECONSTRUCT_BINDING_STATUS) readonly buffer Status { se
 layout(binding = RECONSTRUCT_BINDING_HEMICUBES) uniform utexture2DArray hemicubes;
 layout(std430, binding = RECONSTRUCT_BINDING_FF) buffer FormFactors { float ff[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_NORM) buffer Norm { float norm[]; };
+layout(std430, binding = RECONSTRUCT_BINDING_SHOT) readonly buffer Shot { vec4 shot[]; };
+
+// Rec. 709 luminance weights.
+const vec3 LUMA = vec3(0.2126, 0.7152, 0.0722);
+
+// Blocks per side of a patch in its very near field (near_cells).
+const uint NEAR_BLOCKS = 8u;
+
+// Very near a patch (nearer than its size, A_s > r^2) a receiver sees the
+// radiosity vary across it: a ceiling element by a wall sees the dark top
+// of the wall, not the wall's mean, and with the mean both the ceiling's
+// and the wall's edge rows came out 1.2-1.3 times the CPU reference's in a
+// plain room. So the patch counts as up to NEAR_BLOCKS x NEAR_BLOCKS blocks
+// of its elements, each with the exact form factor of its cells and the
+// mean unshot radiosity of its open elements as select left them (`shot`);
+// returned as the factor that gives that luminance with the patch's mean
+// radiosity, so that conservation and the transfer treat it as any other
+// form factor (the colour is the patch's). Visibility is the patch
+// centre's, as for the rest of the patch.
+float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh)
+{
+    float mean = dot(sh.radiosity.rgb, LUMA);
+    uint bi = (sh.i1 - sh.i0 + NEAR_BLOCKS) / NEAR_BLOCKS;
+    uint bj = (sh.j1 - sh.j0 + NEAR_BLOCKS) / NEAR_BLOCKS;
+    float sum = 0.0, magnitude = 0.0;
+    for (uint j0 = sh.j0; j0 <= sh.j1; j0 += bj) {
+        uint j1 = min(j0 + bj - 1u, sh.j1);
+        for (uint i0 = sh.i0; i0 <= sh.i1; i0 += bi) {
+            uint i1 = min(i0 + bi - 1u, sh.i1);
+            float lum = 0.0, area = 0.0;
+            for (uint j = j0; j <= j1; j++) {
+                for (uint i = i0; i <= i1; i++) {
+                    uint k = j * sf.nu + i;
+                    gpu_element el = elements[sf.first_element + k];
+                    if ((el.flags & GPU_ELEMENT_BURIED_ANY) != 0u && sf.patches_s == 0u)
+                        continue;
+                    lum += el.pos_area.w * dot(shot[k].rgb, LUMA);
+                    area += el.pos_area.w;
+                }
+            }
+            if (area > 0.0) {
+                float f = shooting_cells(x, ne, sf, i0, i1, j0, j1);
+                sum += f * lum / area;
+                magnitude += f * abs(lum) / area;
+            }
+        }
+    }
+    // A patch whose light cancels (negative beside positive, the dynamic
+    // methods) has no mean to scale: the whole quad then.
+    if (!(abs(mean) > 1e-3 * magnitude / max(shooting_quad(x, ne, sf, sh), 1e-30)) ||
+        mean == 0.0)
+        return shooting_quad(x, ne, sf, sh);
+    return sum / mean;
+}
 
 // The part of shooter sh's hemisphere (delta form factors, thesis 2.2.2:
 // dA / (pi (u^2 + v^2 + 1)^2) on the top face, times v on a side face's
@@ -118,8 +172,10 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
                           se + 1u, sh.pos_area.xyz, x, true))
         return 0.0;
-    return near ? shooting_quad(x, ne, surfaces[sh.surface], sh)
-                : shooting_disk(d, cs, ce, area);
+    if (!near)
+        return shooting_disk(d, cs, ce, area);
+    return area > dot(d, d) ? near_cells(x, ne, surfaces[sh.surface], sh)
+                            : shooting_quad(x, ne, surfaces[sh.surface], sh);
 }
 
 void main()

@@ -17,7 +17,8 @@
 #define RECONSTRUCT_BINDING_HEMICUBES 7  /* R32_UINT 2D array, layer = hemicube * 5 + face */
 #define RECONSTRUCT_BINDING_FF 8         /* float[max_shooters * element_count]: F, shooter-major */
 #define RECONSTRUCT_BINDING_NORM 9       /* float[max_shooters]: min(1, A_s / sum_e A_e F_es) */
-#define RECONSTRUCT_BINDING_COUNT 10
+#define RECONSTRUCT_BINDING_SHOT 10      /* vec4[]: the shot surface's Bu by element (select) */
+#define RECONSTRUCT_BINDING_COUNT 11
 
 /* With conservation, a shot takes three dispatches (see reconstruct.comp). */
 #define RECONSTRUCT_MODE_DIRECT 0u   /* F and the transfer in one pass (no conservation) */

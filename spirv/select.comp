@@ -22,6 +22,7 @@ layout(std430, binding = SELECT_BINDING_BU) buffer Unshot { vec4 Bu[]; };
 layout(std430, binding = SELECT_BINDING_POWER) readonly buffer Power { float power[]; };
 layout(std430, binding = SELECT_BINDING_SHOOTERS) writeonly buffer Shooters { gpu_shooter shooters[]; };
 layout(std430, binding = SELECT_BINDING_STATUS) buffer Status { select_status status; };
+layout(std430, binding = SELECT_BINDING_SHOT) writeonly buffer Shot { vec4 shot[]; };
 
 shared float s_power[SELECT_GROUP];
 shared uint s_index[SELECT_GROUP];
@@ -203,10 +204,17 @@ void main()
         sh.pad1 = 0u;
         shooters[k] = sh;
     }
-    // Every patch has read its unshot radiosity before it is cleared.
+    // Every patch has read its unshot radiosity before it is cleared; the
+    // reconstruct pass's near field reads it element by element from `shot`
+    // (buried elements shoot nothing, as above).
     memoryBarrierBuffer();
     barrier();
     uint n = sf.nu * sf.nv;
-    for (uint k = t; k < n; k += SELECT_GROUP)
-        Bu[sf.first_element + k] = vec4(0.0);
+    bool fixed_surface = sf.patches_s != 0u;
+    for (uint k = t; k < n; k += SELECT_GROUP) {
+        uint e = sf.first_element + k;
+        bool buried = !fixed_surface && (elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u;
+        shot[k] = buried ? vec4(0.0) : Bu[e];
+        Bu[e] = vec4(0.0);
+    }
 }

@@ -15,7 +15,8 @@
 #define SELECT_BINDING_POWER 3
 #define SELECT_BINDING_SHOOTERS 4
 #define SELECT_BINDING_STATUS 5
-#define SELECT_BINDING_COUNT 6
+#define SELECT_BINDING_SHOT 6 /* vec4[nu * nv of the largest surface]: the shot surface's Bu */
+#define SELECT_BINDING_COUNT 7
 
 #define SELECT_POWER_GROUP 64u /* select_power.comp: one invocation per surface */
 #define SELECT_GROUP 256u      /* select.comp: one workgroup does the whole choice */

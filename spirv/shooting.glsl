@@ -160,6 +160,16 @@ float shooting_disk(vec3 d, float cs, float ce, float area)
     return area * cs * ce / (r2 * (SHOOTING_PI * r2 + area));
 }
 
+// The exact form factor from x to elements [i0, i1] x [j0, j1] of sf.
+float shooting_cells(vec3 x, vec3 ne, gpu_surface sf, uint i0, uint i1, uint j0, uint j1)
+{
+    vec2 rs = shooting_param_range(i0, i1, sf.nu);
+    vec2 rt = shooting_param_range(j0, j1, sf.nv);
+    vec3 q[4] = vec3[4](shooting_bilinear(sf, rs.x, rt.x), shooting_bilinear(sf, rs.y, rt.x),
+                        shooting_bilinear(sf, rs.y, rt.y), shooting_bilinear(sf, rs.x, rt.y));
+    return shooting_point_to_quad(x, ne, q);
+}
+
 float shooting_quad(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh)
 {
     vec2 rs = shooting_param_range(sh.i0, sh.i1, sf.nu);

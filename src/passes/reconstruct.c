@@ -77,7 +77,7 @@ void reconstruct_bind(struct xrad_context *ctx, reconstruct_pass *p,
         [RECONSTRUCT_BINDING_MATERIALS] = b->materials, [RECONSTRUCT_BINDING_B] = b->B,
         [RECONSTRUCT_BINDING_BU] = b->Bu,             [RECONSTRUCT_BINDING_SHOOTERS] = b->shooters,
         [RECONSTRUCT_BINDING_FF] = b->ff,             [RECONSTRUCT_BINDING_NORM] = b->norm,
-        [RECONSTRUCT_BINDING_STATUS] = b->status,
+        [RECONSTRUCT_BINDING_STATUS] = b->status,      [RECONSTRUCT_BINDING_SHOT] = b->shot,
     };
     VkDescriptorBufferInfo info[RECONSTRUCT_BINDING_COUNT];
     VkDescriptorImageInfo image = {

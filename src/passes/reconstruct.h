@@ -44,6 +44,9 @@ typedef struct reconstruct_bindings {
     /* float[max_shooters * element_count] and float[max_shooters] where
      * params.conserve; any storage buffers otherwise. */
     const gpu_buffer *ff, *norm;
+    /* vec4[]: the shot surface's unshot radiosity by element, as select
+     * left it (select_buffers.shot) */
+    const gpu_buffer *shot;
 } reconstruct_bindings;
 
 typedef struct reconstruct_params {

@@ -6,6 +6,7 @@
 #include "core/error.h"
 #include "gpu/context.h"
 #include "gpu/pipeline.h"
+#include "scene/scene.h"
 #include "select.comp.h"
 #include "select_shared.h"
 #include "select_power.comp.h"
@@ -82,6 +83,7 @@ void select_bind(struct xrad_context *ctx, select_pass *p, const select_buffers 
         [SELECT_BINDING_SURFACES] = b->surfaces, [SELECT_BINDING_ELEMENTS] = b->elements,
         [SELECT_BINDING_BU] = b->Bu,             [SELECT_BINDING_POWER] = &p->power,
         [SELECT_BINDING_SHOOTERS] = b->shooters, [SELECT_BINDING_STATUS] = b->status,
+        [SELECT_BINDING_SHOT] = b->shot,
     };
     VkDescriptorBufferInfo info[SELECT_BINDING_COUNT];
     VkWriteDescriptorSet writes[SELECT_BINDING_COUNT];
@@ -127,4 +129,14 @@ void select_record(select_pass *p, VkCommandBuffer cmd, const select_params *par
                          VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier, 0, NULL, 0, NULL);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->select_pipeline);
     vkCmdDispatch(cmd, 1, 1, 1);
+}
+
+uint32_t select_shot_capacity(const xrad_scene *scene)
+{
+    uint32_t most = 1;
+    for (uint32_t k = 0; k < scene->surface_count; k++) {
+        uint32_t n = scene->surfaces[k].nu * scene->surfaces[k].nv;
+        most = n > most ? n : most;
+    }
+    return most;
 }

@@ -38,7 +38,12 @@ typedef struct select_buffers {
     const gpu_buffer *Bu;       /* vec4[element_count], read and cleared */
     const gpu_buffer *shooters; /* struct gpu_shooter[max_shooters], written */
     const gpu_buffer *status;   /* struct select_status, read and written */
+    const gpu_buffer *shot;     /* vec4[select_shot_capacity()]: the shot surface's Bu
+                                   by element, written before it is cleared */
 } select_buffers;
+
+/* Elements of the scene's largest surface: the entries `shot` needs. */
+uint32_t select_shot_capacity(const xrad_scene *scene);
 
 typedef struct select_params {
     uint32_t element_count;

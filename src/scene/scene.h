@@ -149,7 +149,8 @@ vec3 scene_element_centroid(const surface *s, const element *e);
 
 /* Contact: sets buried[e] (element_count bytes) for every element whose
  * receiver point lies on the front face of another surface facing it, face
- * to face within `tol` m at scene time `time` (the bottom of a box standing
+ * to face within `tol` m and more than `tol` inside its edges (a point on
+ * the edge sees out on one side) at scene time `time` (the bottom of a box standing
  * on a floor, and the floor under it): 1 where a surface of a static object
  * covers it, else 2 where a dynamic one does, else 0. Such a receiver sees
  * the cover edge-on and nothing past it: no light reaches it. `count`

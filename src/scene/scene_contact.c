@@ -27,12 +27,13 @@ vec3 scene_element_centroid(const surface *s, const element *e)
     return surface_point(s, 0.5 * (s0 + s1), 0.5 * (t0 + t1));
 }
 
-/* x inside the convex planar quad c (normal n), edges included. */
-static bool inside_quad(const vec3 c[4], vec3 n, vec3 x)
+/* x inside the convex planar quad c (normal n) by at least `margin` m
+ * from every edge (a negative margin admits points that far outside). */
+static bool inside_quad(const vec3 c[4], vec3 n, vec3 x, double margin)
 {
     for (int k = 0; k < 4; k++) {
         vec3 a = c[k], b = c[(k + 1) & 3];
-        if (v3_dot(v3_cross(v3_sub(b, a), v3_sub(x, a)), n) < 0)
+        if (v3_dot(v3_cross(v3_sub(b, a), v3_sub(x, a)), n) < margin * v3_len(v3_sub(b, a)))
             return false;
     }
     return true;
@@ -74,7 +75,7 @@ xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
                 uint32_t e = sr->first_element + k;
                 vec3 x = xf_point(&pose, scene_element_centroid(sr, &scene->elements[e]));
                 uint8_t by = scene->objects[scene->surfaces[c].object].dynamic ? 2 : 1;
-                if ((!buried[e] || by < buried[e]) && inside_quad(&corners[4 * c], normals[c], x)) {
+                if ((!buried[e] || by < buried[e]) && inside_quad(&corners[4 * c], normals[c], x, tol)) {
                     *count += !buried[e];
                     buried[e] = by;
                 }
@@ -103,7 +104,7 @@ static int32_t nearest_static_hit(const xrad_scene *scene, const vec3 *corners,
         double t = v3_dot(n, v3_sub(corners[4 * s], o)) / along;
         if (!(t > tmin && t < best_t))
             continue;
-        if (!inside_quad(&corners[4 * s], n, v3_mad(o, dir, t)))
+        if (!inside_quad(&corners[4 * s], n, v3_mad(o, dir, t), 0.0))
             continue;
         best = (int32_t)s;
         best_t = t;

@@ -41,6 +41,7 @@ struct progressive {
     reconstruct_pass *reconstruct;
     gpu_buffer shooters; /* struct gpu_shooter[max_shooters] */
     gpu_buffer ff, norm; /* the reconstruct pass's conservation (reconstruct.h) */
+    gpu_buffer shot;     /* the shot surface's Bu by element (select.h) */
     gpu_buffer status;   /* struct select_status, host-visible: read once per batch */
     uint32_t max_shooters;
     bool static_only;
@@ -82,6 +83,7 @@ void progressive_destroy(xrad_solver *s, progressive **engine)
     gpu_buffer_destroy(s->ctx, &p->shooters);
     gpu_buffer_destroy(s->ctx, &p->ff);
     gpu_buffer_destroy(s->ctx, &p->norm);
+    gpu_buffer_destroy(s->ctx, &p->shot);
     free(p);
     *engine = NULL;
 }
@@ -120,7 +122,10 @@ xrad_status progressive_create(xrad_solver *s, bool static_only, progressive **o
                                 GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &p->ff, err)) ||
         (st = gpu_buffer_create(ctx, (VkDeviceSize)p->max_shooters * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
-                                GPU_MEM_RADIOSITY, &p->norm, err)))
+                                GPU_MEM_RADIOSITY, &p->norm, err)) ||
+        (st = gpu_buffer_create(ctx, (VkDeviceSize)select_shot_capacity(s->scene) * sizeof(vec4),
+                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
+                                GPU_MEM_RADIOSITY, &p->shot, err)))
         goto fail;
     /* Three timed passes per shot in one command buffer. */
     if (s->timer->capacity < 3 * s->desc.batch + 1) {
@@ -130,11 +135,12 @@ xrad_status progressive_create(xrad_solver *s, bool static_only, progressive **o
     }
     select_bind(ctx, p->select,
                 &(select_buffers){&gs->surfaces, &gs->elements, &gs->Bu, &p->shooters,
-                                  &p->status});
+                                  &p->status, &p->shot});
     reconstruct_bind(ctx, p->reconstruct,
                      &(reconstruct_bindings){&gs->surfaces, &gs->elements, &gs->materials,
                                              &gs->B, &gs->Bu, &p->shooters, &p->status,
-                                             hemicube_ids_view(p->hemicube), &p->ff, &p->norm});
+                                             hemicube_ids_view(p->hemicube), &p->ff, &p->norm,
+                                             &p->shot});
     p->select_params = (select_params){
         .element_count = gs->element_count,
         .max_patches = s->desc.max_patches,
