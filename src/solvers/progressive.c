@@ -237,7 +237,7 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
     while (!done) {
         uint32_t n = limit - selected;
         n = n < batch ? n : batch;
-        batch = 2 * batch < s->desc.batch ? 2 * batch : s->desc.batch;
+        double t0 = solver_now_ms();
         gpu_cmd c;
         if ((st = gpu_cmd_begin(ctx, &c, err)))
             return st;
@@ -258,6 +258,15 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
         gpu_cmd_destroy(ctx, &c);
         if (st || (st = gpu_timer_collect(ctx, s->timer, err)))
             return st;
+        /* Double the batch up to desc.batch while a submission takes under
+         * a second, halve it past four: a batch of many patches over many
+         * elements on a slow device (lavapipe under load) must stay far
+         * below the context's wait limit. */
+        double took = (solver_now_ms() - t0) * 1e-3;
+        if (took > 4.0 && batch > 1)
+            batch /= 2;
+        else if (took < 1.0)
+            batch = 2 * batch < s->desc.batch ? 2 * batch : s->desc.batch;
         selected = status->selections - first;
         done = status->converged || selected >= limit ||
                status->selections >= s->desc.max_iterations;

@@ -44,7 +44,7 @@ static const setting settings[] = {
       XRAD_SETTING_REAL, 0.01, 0, 1e6, NULL},
      SOLVER(subdivide_ratio), RULE_OPEN_LOW},
     {{"max_patches", "most shooting patches along a surface side (shooter subdivision)",
-      XRAD_SETTING_INTEGER, 8, 1, 64, NULL},
+      XRAD_SETTING_INTEGER, 12, 1, 64, NULL},
      SOLVER(max_patches), RULE_NONE},
     {{"threshold",
       "stop when the largest unshot power (or bounce change) relative to the emitted power is "
@@ -269,7 +269,7 @@ static const struct {
     {"draft",       {32, 1, 1, 0.1, 2, 1e-2, 64, 0, 1, 8, 1, 1, 2, 1, 0.5}},
     {"interactive", {64, 1, 1, 0.01, 4, 1e-3, 32, 0, 2, 16, 4, 1, 2, 1, 1}},
     {"high",        {128, 4, 1, 0.01, 8, 1e-4, 32, 0, 4, 32, 4, 1, 1, 1, 1}},
-    {"reference",   {256, 4, 2, 0.001, 16, 1e-5, 32, 0, 8, 64, 4, 2, 1, 1, 2}},
+    {"reference",   {256, 4, 1, 0.001, 16, 1e-5, 32, 0, 8, 64, 4, 2, 1, 1, 2}},
 };
 
 const char *xrad_quality_preset_list(void)
