@@ -451,6 +451,23 @@ xrad_status xrad_image_write_exr(const char *path, const float *rgba, uint32_t w
 xrad_status xrad_image_read_exr(const char *path, float **rgba, uint32_t *width,
                                 uint32_t *height, xrad_error *err);
 
+/* xrad_image_write_exr with a fifth float channel `name` beside R, G, B, A:
+ * `channel` holds width x height floats, row 0 at the top. xrad render
+ * writes "emitter" this way: non-zero where the pixel shows an emitting
+ * surface (xrad_image_compare leaves those pixels out). `name`: 1 to 31
+ * printable characters, not R, G, B or A. channel NULL: the file
+ * xrad_image_write_exr writes. */
+xrad_status xrad_image_write_exr_channel(const char *path, const float *rgba, const char *name,
+                                         const float *channel, uint32_t width, uint32_t height,
+                                         xrad_error *err);
+/* Reads channel `name` ("emitter", or "A" for the coverage xrad_image_read_exr
+ * does not read) of a scanline OpenEXR (half or float, full resolution) into
+ * width x height floats; *channel is malloc'd. A file without that channel
+ * (an EXR written before it existed, or by another tool) is not an error:
+ * XRAD_OK with *channel NULL; *width and *height are set either way. */
+xrad_status xrad_image_read_exr_channel(const char *path, const char *name, float **channel,
+                                        uint32_t *width, uint32_t *height, xrad_error *err);
+
 /* 8-bit sRGB PNG of exposure * value, clamped (tone mapping: exposure only,
  * documented in README). exposure <= 0: automatic, see
  * xrad_image_auto_exposure. */

@@ -1,9 +1,11 @@
 /* xrad bench --sweep: the speed/accuracy trade of the quality settings.
  * For a scene and method, every point is a set of settings measured as
- * xrad bench measures (converged start, timed frames, NRMSE of the last
- * frame's image against the reference image, GPU memory peak); the points
- * go to CSV, JSON and an SVG of frame time against error whose Pareto
- * front (tools/pareto.h) is labelled with the settings. */
+ * xrad bench measures (converged start, timed frames, the error figures of
+ * README "Accuracy" of the last frame against the reference, GPU memory
+ * peak); the points go to CSV, JSON and an SVG of frame time against the
+ * --metric figure (surface_error by default) whose Pareto front
+ * (tools/pareto.h) is labelled with the settings. */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +17,9 @@
 #define SWEEP_MAX_AXES 16
 #define SWEEP_MAX_VALUES 8
 #define SWEEP_MAX_POINTS 256
+/* Element layouts besides the base's with a reference of their own: the
+ * densities of the one-at-a-time sweep and the presets, with room. */
+#define SWEEP_MAX_LAYOUTS 8
 
 enum { M_GATHER = 1, M_PROGRESSIVE = 2, M_INCREMENTAL = 4, M_CROSS = 8 };
 #define M_SHOOT (M_PROGRESSIVE | M_INCREMENTAL | M_CROSS)
@@ -173,15 +178,27 @@ static void csv_text(FILE *f, const char *s)
     fputc('"', f);
 }
 
+/* A figure for the CSV: empty where the point has none (NaN). */
+static void csv_number(FILE *f, double v)
+{
+    if (isfinite(v))
+        fprintf(f, ",%.7g", v);
+    else
+        fputc(',', f);
+}
+
 static xrad_status write_outputs(const char *stem, const char *scene, const char *method,
-                                 xrad_context *ctx, point *pts, bench_point *res,
-                                 method_settings *settings, uint32_t n, xrad_error *err)
+                                 const bench_opts *o, xrad_context *ctx, point *pts,
+                                 bench_point *res, method_settings *settings, uint32_t n,
+                                 xrad_error *err)
 {
     pareto_point *pp = calloc(n ? n : 1, sizeof(*pp));
     if (!pp)
         return cli_fail(err, XRAD_ERROR_SYSTEM, "bench: out of memory");
+    /* A point without the figure (NaN) is never on the front. */
     for (uint32_t k = 0; k < n; k++)
-        pp[k] = (pareto_point){res[k].frame_ms, res[k].nrmse, pts[k].label, false};
+        pp[k] = (pareto_point){res[k].frame_ms, bench_metric(&res[k], o->metric), pts[k].label,
+                               false};
     pareto_mark(pp, n);
 
     char path[1100];
@@ -195,8 +212,9 @@ static xrad_status write_outputs(const char *stem, const char *scene, const char
     fprintf(f, "label");
     for (uint32_t i = 0; i < xrad_setting_count(); i++)
         fprintf(f, ",%s", xrad_setting_get(i)->name);
-    fprintf(f, ",frame_ms,frame_ms_p95,gpu_ms,nrmse,peak_gpu_mib,hemicubes_per_frame,"
-               "host_waits_per_frame,pareto,passes\n");
+    fprintf(f, ",frame_ms,frame_ms_p95,gpu_ms,nrmse,mean_ratio,rel_rms,surface_error,"
+               "worst_surface,element_p50,element_p95,element_max,reference,element_reference,"
+               "peak_gpu_mib,hemicubes_per_frame,host_waits_per_frame,pareto,passes\n");
     for (uint32_t k = 0; k < n; k++) {
         csv_text(f, pts[k].label);
         for (uint32_t i = 0; i < xrad_setting_count(); i++) {
@@ -205,8 +223,23 @@ static xrad_status write_outputs(const char *stem, const char *scene, const char
                                 NULL);
             fprintf(f, ",%s", v);
         }
-        fprintf(f, ",%.3f,%.3f,%.3f,%.7f,%.3f,%.1f,%.1f,%d,", res[k].frame_ms, res[k].p95_ms,
-                res[k].gpu_ms, res[k].nrmse, res[k].peak_mib, res[k].hemicubes,
+        fprintf(f, ",%.3f,%.3f,%.3f", res[k].frame_ms, res[k].p95_ms, res[k].gpu_ms);
+        csv_number(f, res[k].nrmse);
+        csv_number(f, res[k].mean_ratio);
+        csv_number(f, res[k].rel_rms);
+        csv_number(f, res[k].surface_error);
+        fputc(',', f);
+        csv_text(f, res[k].worst_surface);
+        csv_number(f, res[k].element_p50);
+        csv_number(f, res[k].element_p95);
+        csv_number(f, res[k].element_max);
+        const cJSON *ref = cJSON_GetObjectItemCaseSensitive(res[k].row, "reference");
+        const cJSON *el_ref = cJSON_GetObjectItemCaseSensitive(res[k].row, "element_reference");
+        fputc(',', f);
+        csv_text(f, cJSON_IsString(ref) ? ref->valuestring : "");
+        fputc(',', f);
+        csv_text(f, cJSON_IsString(el_ref) ? el_ref->valuestring : "");
+        fprintf(f, ",%.3f,%.1f,%.1f,%d,", res[k].peak_mib, res[k].hemicubes,
                 res[k].host_waits, pp[k].front ? 1 : 0);
         char passes[1024] = "";
         size_t len = 0;
@@ -227,6 +260,7 @@ static xrad_status write_outputs(const char *stem, const char *scene, const char
     cJSON_AddStringToObject(out, "scene", scene);
     cJSON_AddStringToObject(out, "method", method);
     cJSON_AddStringToObject(out, "device", xrad_context_device_name(ctx));
+    cJSON_AddStringToObject(out, "pareto_metric", o->metric);
     for (uint32_t k = 0; k < n; k++) {
         cJSON *row = cJSON_Duplicate(res[k].row, 1);
         cJSON_AddStringToObject(row, "label", pts[k].label);
@@ -254,13 +288,13 @@ static xrad_status write_outputs(const char *stem, const char *scene, const char
 
     snprintf(path, sizeof(path), "%s.svg", stem);
     char title[512];
-    snprintf(title, sizeof(title), "%s, %s on %s: frame time against NRMSE", scene, method,
-             xrad_context_device_name(ctx));
-    if (pareto_write_svg(path, title, pp, n)) {
+    snprintf(title, sizeof(title), "%s, %s on %s: frame time against %s", scene, method,
+             xrad_context_device_name(ctx), o->metric);
+    if (pareto_write_svg_named(path, title, o->metric, pp, n)) {
         st = cli_fail(err, XRAD_ERROR_SYSTEM, "%s: cannot write", path);
         goto done;
     }
-    printf("wrote %s\nPareto front (frame ms, NRMSE):\n", path);
+    printf("wrote %s\nPareto front (frame ms, %s):\n", path, o->metric);
     for (uint32_t k = 0; k < n; k++)
         if (pp[k].front)
             printf("  %10.1f  %.5f  %s\n", pp[k].time_ms, pp[k].error, pp[k].label);
@@ -278,19 +312,25 @@ xrad_status bench_sweep(xrad_context *ctx, const char *path, const bench_opts *o
                                        : XRAD_OK;
     if (st)
         return st;
-    /* The reference image: the scene as the base settings load it. */
+    /* The reference: the scene as the base settings load it. Points whose
+     * settings change the element layout (density_scale, a preset's) are
+     * compared in image space against it as they are; their element
+     * figures need a reference of their own layout, made (or read from the
+     * cache) once per layout. */
     method_settings base = o->m;
     xrad_scene *ref_scene = NULL;
-    float *ref = NULL;
-    uint32_t rw = 0, rh = 0;
-    char kind[32];
+    double t_ref = o->time + o->repeat / o->fps;
+    bench_reference ref = {0}, layouts[SWEEP_MAX_LAYOUTS];
+    uint32_t nlayouts = 0;
     if ((st = method_load_scene(path, &base, &ref_scene, err)) ||
-        (st = bench_reference_image(ctx, path, ref_scene, o, o->time + o->repeat / o->fps, &ref,
-                                    &rw, &rh, kind, sizeof(kind), err))) {
+        (st = bench_reference_get(ctx, path, ref_scene, o, t_ref, &ref, err))) {
         xrad_scene_destroy(&ref_scene);
         return st;
     }
     xrad_scene_destroy(&ref_scene);
+    printf("sweep: %s: reference %s (image; element figures against it at the base "
+           "element layout, else against one of the point's layout)\n",
+           path, ref.kind);
     point *pts = calloc(SWEEP_MAX_POINTS, sizeof(*pts));
     bench_point *res = calloc(SWEEP_MAX_POINTS, sizeof(*res));
     method_settings *ms = calloc(SWEEP_MAX_POINTS, sizeof(*ms));
@@ -334,22 +374,40 @@ xrad_status bench_sweep(xrad_context *ctx, const char *path, const bench_opts *o
             xrad_scene *scene = NULL;
             printf("[%u/%u] %s\n", k + 1, n, pts[k].label);
             fflush(stdout);
-            if (!(st = method_load_scene(path, &ms[k], &scene, err)))
-                st = bench_one(ctx, path, scene, m, &ms[k], o, ref, rw, rh, kind, rows, &res[k],
-                               err);
+            const bench_reference *el_ref = &ref;
+            const char *note = NULL;
+            if (!(st = method_load_scene(path, &ms[k], &scene, err)) &&
+                !bench_reference_fits(&ref, scene)) {
+                note = "at this point's element layout";
+                uint32_t l = 0;
+                while (l < nlayouts && !bench_reference_fits(&layouts[l], scene))
+                    l++;
+                if (l == nlayouts && nlayouts < SWEEP_MAX_LAYOUTS &&
+                    !(st = bench_reference_get(ctx, path, scene, o, t_ref, &layouts[l], err)))
+                    nlayouts++;
+                /* More layouts than kept: the element figures are NaN. */
+                el_ref = l < nlayouts ? &layouts[l] : &ref;
+                if (l == nlayouts)
+                    note = "none of this point's element layout (too many layouts)";
+            }
+            if (!st)
+                st = bench_one(ctx, path, scene, m, &ms[k], o, &ref, el_ref, note, rows,
+                               &res[k], err);
             xrad_scene_destroy(&scene);
         }
         char stem[1024], name[256];
         snprintf(stem, sizeof(stem), "%s/%s-%s", o->sweep_out,
                  cli_basename_noext(path, name, sizeof(name)), m);
         if (!st)
-            st = write_outputs(stem, path, m, ctx, pts, res, ms, n, err);
+            st = write_outputs(stem, path, m, o, ctx, pts, res, ms, n, err);
     }
 done:
     cJSON_Delete(rows);
     free(ms);
     free(res);
     free(pts);
-    free(ref);
+    bench_reference_free(&ref);
+    for (uint32_t l = 0; l < nlayouts; l++)
+        bench_reference_free(&layouts[l]);
     return st;
 }

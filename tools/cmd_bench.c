@@ -19,17 +19,22 @@ static void help(void)
            "times --repeat frames of the scene's animation, 1/--fps apart. A frame is a\n"
            "whole solve for gather and progressive, a redistribution and its progressive\n"
            "iterations for incremental and cross. Prints the median frame time, GPU time per\n"
-           "pass (timestamp queries), hemicubes, shots, host waits per frame, and NRMSE of\n"
-           "the last frame's camera image against a reference image at that pose; then the\n"
+           "pass (timestamp queries), hemicubes, shots, host waits per frame, and the error\n"
+           "of the last frame against a reference at that pose (README \"Accuracy\"): in the\n"
+           "camera image nrmse, mean_ratio and rel_rms (non-emitter pixels), in the element\n"
+           "solution surface_error with its worst surface and element_p50/p95/max; then the\n"
            "frame-time ratios progressive/cross and incremental/cross. The JSON also has\n"
-           "every frame's time, the 95th percentile (nearest rank) and each pass's median.\n\n"
+           "every frame's time, the 95th percentile (nearest rank) and each pass's median.\n"
+           "Each row's \"reference\" and \"element_reference\" say what it was measured\n"
+           "against: the CPU reference, or above --max-reference-elements a high-quality\n"
+           "gather, for the image and the elements alike.\n\n"
            "  --methods LIST     comma-separated: %s [gather,progressive]\n"
            "  --json FILE        also write the rows and ratios as JSON\n"
            "  --repeat N         timed frames per scene and method; the median is reported [3]\n"
            "  --time T, --fps F  start pose (s) and frame rate of scene time [0, 30]\n"
-           "  --width N, --height N   image size for NRMSE [the scene camera's]\n"
+           "  --width N, --height N   image size for the image figures [the scene camera's]\n"
            "  --reference-rays N CPU reference rays where clipping gives up [32]\n"
-           "  --cache DIR        where reference images are kept [out/bench-cache]\n"
+           "  --cache DIR        where references are kept [out/bench-cache]\n"
            "  --max-reference-elements N  above this element count the reference is a\n"
            "                     high-quality GPU gather (hemicube 128, 4x MSAA, threshold\n"
            "                     1e-5) instead of the CPU solver [12000]\n"
@@ -38,17 +43,21 @@ static void help(void)
            "                     one at a time from the base (and the presets draft,\n"
            "                     interactive, high) or over their whole grid; writes\n"
            "                     DIR/SCENE-METHOD.csv, .json and an .svg of frame time\n"
-           "                     against NRMSE with the Pareto front labelled\n"
+           "                     against --metric with the Pareto front labelled\n"
+           "  --metric NAME      the sweep's error for its Pareto front: %s\n"
+           "                     [surface_error]\n"
            "  --sweep-settings S which settings and values: \"hemicube_res=16,32,64;\n"
            "                     cross_grid=1,4\" [one: a list per method; grid: needed]\n"
            "  --sweep-out DIR    where the sweep's files go [out/sweep]\n",
-           method_list());
+           method_list(), BENCH_METRICS);
     method_print_options();
-    printf("\nReference images are cached in the cache directory under a name that hashes the\n"
-           "scene file, the reference settings (and the reference solver's visibility\n"
-           "method), the image size and the pose's time.\n");
+    printf("\nReferences (the image with its emitter mask, and the element solution) are\n"
+           "cached in the cache directory under a name that hashes the scene file, the\n"
+           "reference settings (and the reference solver's visibility method), the image\n"
+           "size, the pose's time, the element layout and the cache's version. A sweep\n"
+           "point whose settings change the element layout (density_scale, the draft\n"
+           "preset) has its element figures against a reference of its own layout.\n");
 }
-
 
 /* FNV-1a, to name cached references by what made them. */
 static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
@@ -126,12 +135,60 @@ static void pass_frames_free(pass_frames *pf)
         free(pf->ms[k]);
 }
 
-/* The reference image for a scene at scene time t: from the cache, or made
- * and cached. */
-xrad_status bench_reference_image(xrad_context *ctx, const char *path, const xrad_scene *scene,
-                                  const bench_opts *o, double t, float **img, uint32_t *w,
-                                  uint32_t *h, char *kind, size_t kind_n, xrad_error *err)
+/* Bumped when what is cached or how it is measured changes, so that
+ * files of an older bench are made again rather than read: 1 added the
+ * element atlas and the emitter mask beside the image. */
+#define BENCH_CACHE_VERSION 1
+
+void bench_reference_free(bench_reference *ref)
 {
+    free(ref->image);
+    free(ref->emitter);
+    xrad_atlas_destroy(&ref->atlas);
+    memset(ref, 0, sizeof(*ref));
+}
+
+int bench_reference_fits(const bench_reference *ref, const xrad_scene *scene)
+{
+    xrad_scene_info info;
+    xrad_scene_get_info(scene, &info);
+    return ref->atlas.rgba && ref->elements == info.elements &&
+           ref->atlas.width == info.atlas_width && ref->atlas.height == info.atlas_height;
+}
+
+/* The cached files: <stem>.exr is the image with its "A" coverage and
+ * "emitter" channel, <stem>-atlas.exr the element solution. Returns 0 when
+ * any is missing or not of this version. */
+static int reference_read(const char *stem, const xrad_scene *scene, bench_reference *ref)
+{
+    char image[1100], atlas[1100];
+    snprintf(image, sizeof(image), "%s.exr", stem);
+    snprintf(atlas, sizeof(atlas), "%s-atlas.exr", stem);
+    if (access(image, R_OK) || access(atlas, R_OK))
+        return 0;
+    xrad_error ignored;
+    method_image img;
+    if (method_read_image(image, &img, &ignored))
+        return 0;
+    ref->image = img.rgba;
+    ref->emitter = img.emitter;
+    ref->width = img.width;
+    ref->height = img.height;
+    if (xrad_image_read_exr(atlas, &ref->atlas.rgba, &ref->atlas.width, &ref->atlas.height,
+                            &ignored) ||
+        !ref->emitter)
+        return 0;
+    xrad_scene_info info;
+    xrad_scene_get_info(scene, &info);
+    ref->elements = info.elements;
+    return bench_reference_fits(ref, scene);
+}
+
+xrad_status bench_reference_get(xrad_context *ctx, const char *path, const xrad_scene *scene,
+                                const bench_opts *o, double t, bench_reference *ref,
+                                xrad_error *err)
+{
+    memset(ref, 0, sizeof(*ref));
     xrad_scene_info info;
     xrad_scene_get_info(scene, &info);
     bool cpu = info.elements <= o->max_ref_elements;
@@ -143,27 +200,32 @@ xrad_status bench_reference_image(xrad_context *ctx, const char *path, const xra
                  o->ref_rays);
     else
         snprintf(settings, sizeof(settings), "gather res=128 msaa=4 threshold=1e-5");
-    snprintf(kind, kind_n, "%s", cpu ? "cpu-reference" : "gather-high");
+    snprintf(ref->kind, sizeof(ref->kind), "%s", cpu ? "cpu-reference" : "gather-high");
     uint64_t hash = hash_file(0xcbf29ce484222325ULL, path);
     hash = fnv1a(hash, settings, strlen(settings));
     uint32_t size[2] = {o->width, o->height};
     hash = fnv1a(hash, size, sizeof(size));
-    /* Time 0 hashes as before poses existed here, so old caches stay valid. */
-    if (t != 0)
-        hash = fnv1a(hash, &t, sizeof(t));
-    char name[256], cached[1024];
-    snprintf(cached, sizeof(cached), "%s/%s-%016llx.exr", o->cache,
+    hash = fnv1a(hash, &t, sizeof(t));
+    /* The element layout (the density the scene was loaded with) and the
+     * cache's version. */
+    uint32_t layout[4] = {info.elements, info.atlas_width, info.atlas_height,
+                          BENCH_CACHE_VERSION};
+    hash = fnv1a(hash, layout, sizeof(layout));
+    char name[256], stem[1024];
+    snprintf(stem, sizeof(stem), "%s/%s-%016llx", o->cache,
              cli_basename_noext(path, name, sizeof(name)), (unsigned long long)hash);
-    xrad_error ignored;
-    if (access(cached, R_OK) == 0 && xrad_image_read_exr(cached, img, w, h, &ignored) == XRAD_OK) {
-        fprintf(stderr, "bench: %s: reference from %s\n", path, cached);
+    if (reference_read(stem, scene, ref)) {
+        fprintf(stderr, "bench: %s: reference from %s.exr\n", path, stem);
         return XRAD_OK;
     }
-    fprintf(stderr, "bench: %s: making the reference (%s)\n", path, settings);
-    xrad_atlas atlas = {0};
-    xrad_status st = xrad_atlas_create(scene, &atlas, err);
+    bench_reference_free(ref);
+    snprintf(ref->kind, sizeof(ref->kind), "%s", cpu ? "cpu-reference" : "gather-high");
+    fprintf(stderr, "bench: %s: making the reference (%s, %u elements)\n", path, settings,
+            info.elements);
+    xrad_status st = xrad_atlas_create(scene, &ref->atlas, err);
     if (st)
         return st;
+    ref->elements = info.elements;
     method_settings m = {0};
     m.reference.rays = o->ref_rays;
     m.reference.residual = 1e-7;
@@ -173,23 +235,51 @@ xrad_status bench_reference_image(xrad_context *ctx, const char *path, const xra
     m.solver.time = t;
     m.reference.time = t;
     method_result r;
-    st = method_run(ctx, scene, cpu ? "reference" : "gather", &m, &atlas, &r, err);
+    st = method_run(ctx, scene, cpu ? "reference" : "gather", &m, &ref->atlas, &r, err);
     xrad_view_desc view = {.width = o->width, .height = o->height, .time = t};
     if (!st)
-        st = xrad_render_view(ctx, scene, &atlas, &view, img, w, h, err);
-    xrad_atlas_destroy(&atlas);
-    if (!st && cli_make_parent_dirs(cached) &&
-        xrad_image_write_exr(cached, *img, *w, *h, &ignored) == XRAD_OK) {
+        st = xrad_render_view(ctx, scene, &ref->atlas, &view, &ref->image, &ref->width,
+                              &ref->height, err);
+    if (!st)
+        st = method_emitter_mask(ctx, scene, &view, &ref->emitter, err);
+    if (st) {
+        bench_reference_free(ref);
+        return st;
+    }
+    char image[1100], atlas[1100];
+    snprintf(image, sizeof(image), "%s.exr", stem);
+    snprintf(atlas, sizeof(atlas), "%s-atlas.exr", stem);
+    xrad_error ignored;
+    /* A cache that cannot be written costs time, not results. */
+    if (cli_make_parent_dirs(image) &&
+        xrad_image_write_exr_channel(image, ref->image, "emitter", ref->emitter, ref->width,
+                                     ref->height, &ignored) == XRAD_OK &&
+        xrad_image_write_exr(atlas, ref->atlas.rgba, ref->atlas.width, ref->atlas.height,
+                             &ignored) == XRAD_OK) {
         char meta[1100];
-        snprintf(meta, sizeof(meta), "%s.txt", cached);
+        snprintf(meta, sizeof(meta), "%s.txt", stem);
         FILE *f = fopen(meta, "w");
         if (f) {
-            fprintf(f, "scene %s\nsettings %s\nsize %ux%u\ntime %.17g\n", path, settings, *w,
-                    *h, t);
+            fprintf(f,
+                    "scene %s\nsettings %s\nsize %ux%u\ntime %.17g\nelements %u\n"
+                    "atlas %ux%u\nversion %d\n",
+                    path, settings, ref->width, ref->height, t, info.elements,
+                    info.atlas_width, info.atlas_height, BENCH_CACHE_VERSION);
             fclose(f);
         }
     }
-    return st;
+    return XRAD_OK;
+}
+
+double bench_metric(const bench_point *p, const char *metric)
+{
+    if (!strcmp(metric, "nrmse"))
+        return p->nrmse;
+    if (!strcmp(metric, "rel_rms"))
+        return p->rel_rms;
+    if (!strcmp(metric, "element_p95"))
+        return p->element_p95;
+    return p->surface_error;
 }
 
 static int parse(int argc, char **argv, bench_opts *o)
@@ -203,6 +293,7 @@ static int parse(int argc, char **argv, bench_opts *o)
     o->max_ref_elements = 12000;
     o->fps = 30;
     o->sweep_out = "out/sweep";
+    o->metric = "surface_error";
     const char *opt;
     while ((opt = cli_next(&a)) && !a.failed) {
         if (cli_is_help(opt)) {
@@ -237,6 +328,12 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->sweep_settings = cli_value(&a);
         } else if (!strcmp(opt, "sweep-out")) {
             o->sweep_out = cli_value(&a);
+        } else if (!strcmp(opt, "metric")) {
+            o->metric = cli_value(&a);
+            if (o->metric && strcmp(o->metric, "nrmse") && strcmp(o->metric, "rel_rms") &&
+                strcmp(o->metric, "surface_error") && strcmp(o->metric, "element_p95"))
+                return cli_usage_error("bench", "--metric: '%s' is not one of %s", o->metric,
+                                       BENCH_METRICS);
         } else if (method_solver_option(&a, opt, &o->m)) {
             continue;
         } else if (!strcmp(opt, "device")) {
@@ -264,8 +361,9 @@ static int parse(int argc, char **argv, bench_opts *o)
  * last one's image for NRMSE. Returns the median frame time in *frame_ms. */
 xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *scene,
                       const char *method, const method_settings *settings, const bench_opts *o,
-                      const float *ref, uint32_t rw, uint32_t rh, const char *ref_kind,
-                      cJSON *rows, bench_point *out, xrad_error *err)
+                      const bench_reference *image_ref, const bench_reference *element_ref,
+                      const char *element_note, cJSON *rows, bench_point *out,
+                      xrad_error *err)
 {
     memset(out, 0, sizeof(*out));
     xrad_context_reset_memory_peak(ctx);
@@ -310,9 +408,23 @@ xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *sce
     }
     if (st)
         goto done;
-    xrad_view_desc view = {.width = rw, .height = rh, .time = t};
+    xrad_view_desc view = {.width = image_ref->width, .height = image_ref->height, .time = t};
     if ((st = xrad_render_view(ctx, scene, &atlas, &view, &img, &w, &h, err)))
         goto done;
+    /* README "Accuracy": NaN where a figure does not exist for this point
+     * (no counted pixel, an element reference of another layout). */
+    xrad_image_metrics im = {.nrmse = NAN, .mean_ratio = NAN, .rel_rms = NAN};
+    xrad_error ignored;
+    if (xrad_image_compare(img, image_ref->image, image_ref->emitter, w, h, &im, &ignored))
+        im.mean_ratio = im.rel_rms = NAN;
+    xrad_element_metrics em;
+    char worst[128] = "";
+    if (bench_reference_fits(element_ref, scene) &&
+        xrad_atlas_compare(scene, &atlas, &element_ref->atlas, &em, NULL, &ignored) == XRAD_OK)
+        method_surface_label(scene, em.worst_surface, worst, sizeof(worst));
+    else
+        em = (xrad_element_metrics){.surface_error = NAN, .p50 = NAN, .p95 = NAN, .max = NAN,
+                                    .mean_ratio = NAN, .worst_ratio = NAN};
     cJSON *row = cJSON_CreateObject();
     cJSON_AddStringToObject(row, "scene", path);
     cJSON_AddStringToObject(row, "method", method);
@@ -320,7 +432,7 @@ xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *sce
     for (uint32_t k = 0; k < o->repeat; k++)
         cJSON_AddItemToArray(frames, cJSON_CreateNumber(wall[k]));
     double frame_median = median(wall, o->repeat), gpu_median = median(gpu, o->repeat);
-    double nrmse = xrad_image_nrmse(img, ref, w, h);
+    double nrmse = xrad_image_nrmse(img, image_ref->image, w, h);
     cJSON_AddNumberToObject(row, "frame_ms", frame_median);
     cJSON_AddNumberToObject(row, "frame_ms_p95", percentile(wall, o->repeat, 0.95));
     cJSON_AddNumberToObject(row, "redistribute_ms", r.gpu ? r.stats.redistribute_ms : 0);
@@ -338,7 +450,21 @@ xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *sce
     cJSON_AddNumberToObject(row, "submissions", r.gpu ? r.stats.submissions : 0);
     cJSON_AddNumberToObject(row, "host_waits", r.gpu ? r.stats.host_waits : 0);
     cJSON_AddNumberToObject(row, "nrmse", nrmse);
-    cJSON_AddStringToObject(row, "reference", ref_kind);
+    cJSON_AddNumberToObject(row, "mean_ratio", im.mean_ratio);
+    cJSON_AddNumberToObject(row, "rel_rms", im.rel_rms);
+    cJSON_AddNumberToObject(row, "pixels", (double)im.pixels);
+    cJSON_AddNumberToObject(row, "surface_error", em.surface_error);
+    cJSON_AddStringToObject(row, "worst_surface", worst);
+    cJSON_AddNumberToObject(row, "worst_surface_ratio", em.worst_ratio);
+    cJSON_AddNumberToObject(row, "element_p50", em.p50);
+    cJSON_AddNumberToObject(row, "element_p95", em.p95);
+    cJSON_AddNumberToObject(row, "element_max", em.max);
+    cJSON_AddNumberToObject(row, "element_mean_ratio", em.mean_ratio);
+    cJSON_AddStringToObject(row, "reference", image_ref->kind);
+    char el_kind[160];
+    snprintf(el_kind, sizeof(el_kind), "%s%s%s", element_ref->kind,
+             element_note ? ", " : "", element_note ? element_note : "");
+    cJSON_AddStringToObject(row, "element_reference", el_kind);
     cJSON_AddStringToObject(row, "hemicube_path",
                             r.gpu && r.stats.hemicube_path ? r.stats.hemicube_path : "-");
     cJSON_AddStringToObject(row, "device", xrad_context_device_name(ctx));
@@ -353,15 +479,23 @@ xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *sce
         .p95_ms = percentile(wall, o->repeat, 0.95),
         .gpu_ms = gpu_median,
         .nrmse = nrmse,
+        .mean_ratio = im.mean_ratio,
+        .rel_rms = im.rel_rms,
+        .surface_error = em.surface_error,
+        .element_p50 = em.p50,
+        .element_p95 = em.p95,
+        .element_max = em.max,
         .peak_mib = (double)mem.total_peak / 1048576.0,
         .hemicubes = work[0] / o->repeat,
         .host_waits = work[1] / o->repeat,
         .row = row,
     };
 
-    printf("%-28s %-12s %12.1f %12.1f %12.1f %10.1f %8u %7.1f %10.5f\n", path, method,
-           frame_median, percentile(wall, o->repeat, 0.95), gpu_median, work[0] / o->repeat,
-           r.gpu ? r.stats.shots : 0, work[1] / o->repeat, nrmse);
+    snprintf(out->worst_surface, sizeof(out->worst_surface), "%s", worst);
+    printf("%-28s %-12s %12.1f %12.1f %12.1f %10.1f %8u %7.1f %10.5f %10.5f %10.5f %10.5f %s\n",
+           path, method, frame_median, percentile(wall, o->repeat, 0.95), gpu_median,
+           work[0] / o->repeat, r.gpu ? r.stats.shots : 0, work[1] / o->repeat, nrmse,
+           im.rel_rms, em.surface_error, em.p95, worst[0] ? worst : "-");
     for (uint32_t k = 0; k < pf.count; k++)
         printf("%-28s   %-20s %10.2f ms\n", "", pf.names[k], median(pf.ms[k], o->repeat));
     fflush(stdout);
@@ -389,8 +523,9 @@ int cmd_bench(int argc, char **argv)
     cJSON *rows = cJSON_AddArrayToObject(out, "rows");
     cJSON *ratios = cJSON_AddArrayToObject(out, "ratios");
     printf("device: %s\n", xrad_context_device_name(ctx));
-    printf("%-28s %-12s %12s %12s %12s %10s %8s %7s %10s\n", "scene", "method", "frame_ms",
-           "p95_ms", "gpu_ms", "hemicubes", "shots", "waits", "nrmse");
+    printf("%-28s %-12s %12s %12s %12s %10s %8s %7s %10s %10s %10s %10s %s\n", "scene",
+           "method", "frame_ms", "p95_ms", "gpu_ms", "hemicubes", "shots", "waits", "nrmse",
+           "rel_rms", "surf_err", "el_p95", "worst_surface");
     xrad_status st = XRAD_OK;
     for (int i = 0; i < o.scene_count && !st; i++) {
         const char *path = o.scenes[i];
@@ -402,24 +537,23 @@ int cmd_bench(int argc, char **argv)
         }
         if ((st = method_load_scene(path, &settings, &scene, &err)))
             break;
-        float *ref = NULL;
-        uint32_t rw = 0, rh = 0;
-        char kind[32];
-        st = bench_reference_image(ctx, path, scene, &o, o.time + o.repeat / o.fps, &ref, &rw,
-                                   &rh, kind, sizeof(kind), &err);
+        bench_reference ref;
+        st = bench_reference_get(ctx, path, scene, &o, o.time + o.repeat / o.fps, &ref, &err);
+        if (!st)
+            printf("%-28s reference: %s, for the image and the element figures\n", path,
+                   ref.kind);
         char list[512];
         snprintf(list, sizeof(list), "%s", o.methods);
         double ms[5] = {0}; /* by xrad_method; 0 unused */
         for (char *save = NULL, *m = strtok_r(list, ",", &save); m && !st;
              m = strtok_r(NULL, ",", &save)) {
             bench_point pt;
-            st = bench_one(ctx, path, scene, m, &settings, &o, ref, rw, rh, kind, rows, &pt,
-                           &err);
+            st = bench_one(ctx, path, scene, m, &settings, &o, &ref, &ref, NULL, rows, &pt, &err);
             double f = pt.frame_ms;
             if (xrad_method_from_name(m) < 5)
                 ms[xrad_method_from_name(m)] = f;
         }
-        free(ref);
+        bench_reference_free(&ref);
         if (!st && ms[XRAD_METHOD_CROSS] > 0) {
             cJSON *ratio = cJSON_CreateObject();
             cJSON_AddStringToObject(ratio, "scene", path);

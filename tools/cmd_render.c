@@ -20,8 +20,11 @@ static void help(void)
            "                    [default: reference]\n"
            "  --out FILE        output image; .png (tone-mapped sRGB) or .exr (linear)\n"
            "  --png FILE        write a PNG here (may be given with --exr)\n"
-           "  --exr FILE        write an EXR here\n"
+           "  --exr FILE        write an EXR here: R, G, B, A (0 where no surface is) and\n"
+           "                    \"emitter\" (non-zero where the pixel shows an emitting surface)\n"
            "                    [default: out/<scene>-<method>.png and .exr]\n"
+           "  --atlas FILE.exr  also write the element solution: the scene's atlas, one texel\n"
+           "                    per element, RGBA float (for xrad compare --scene)\n"
            "  --width N, --height N   image size [default: the scene camera's]\n"
            "  --time T          seconds of scene animation to pose dynamic objects [0]\n"
            "  --exposure E      PNG scale factor; 0 = auto (95th percentile -> 0.8) [0]\n"
@@ -36,11 +39,12 @@ static void help(void)
            "  --device NAME     Vulkan device (substring; see xrad devices)\n"
            "  --quiet           no progress on stderr\n");
     method_print_options();
-    printf("\nThe EXR holds the radiosity B (W/m^2) of the surface seen in each pixel.\n");
+    printf("\nThe EXR holds the radiosity B (W/m^2) of the surface seen in each pixel;\n"
+           "xrad compare leaves out the pixels its emitter channel marks.\n");
 }
 
 typedef struct render_opts {
-    const char *scene, *method, *png, *exr, *device;
+    const char *scene, *method, *png, *exr, *atlas, *device;
     uint32_t width, height;
     double time, exposure, fps;
     uint32_t frames;
@@ -83,6 +87,11 @@ static int parse(int argc, char **argv, render_opts *o)
             o->png = cli_value(&a);
         } else if (!strcmp(opt, "exr")) {
             o->exr = cli_value(&a);
+        } else if (!strcmp(opt, "atlas")) {
+            o->atlas = cli_value(&a);
+            if (o->atlas && !cli_has_ext(o->atlas, ".exr"))
+                a.failed = cli_usage_error("render", "--atlas %s: the extension must be .exr",
+                                           o->atlas);
         } else if (!strcmp(opt, "width")) {
             cli_uint(&a, 1, 16384, &o->width);
         } else if (!strcmp(opt, "height")) {
@@ -146,7 +155,7 @@ int cmd_render(int argc, char **argv)
     xrad_scene *scene = NULL;
     xrad_context *ctx = NULL;
     xrad_atlas atlas = {0};
-    float *image = NULL;
+    float *image = NULL, *emitter = NULL;
     method_run_state run = {0};
     double t0 = cli_now();
     if (method_load_scene(o.scene, &o.m, &scene, &err))
@@ -174,6 +183,7 @@ int cmd_render(int argc, char **argv)
     method_result res;
     uint32_t w = 0, h = 0;
     double t_solve = 0, t_display = 0, exposure = o.exposure, frame_ms = 0;
+    xrad_view_desc view = {0};
     o.m.reference.time = o.time;
     o.m.solver.time = o.time;
     if (method_open(ctx, scene, o.method, &o.m, &run, &err))
@@ -188,8 +198,8 @@ int cmd_render(int argc, char **argv)
             frame_ms += (t_solve - tf0) * 1e3;
         free(image);
         image = NULL;
-        xrad_view_desc view = {.width = o.width, .height = o.height, .time = t,
-                               .nearest = o.nearest};
+        view = (xrad_view_desc){.width = o.width, .height = o.height, .time = t,
+                                .nearest = o.nearest};
         if (xrad_render_view(ctx, scene, &atlas, &view, &image, &w, &h, &err))
             goto fail;
         t_display = cli_now();
@@ -215,19 +225,29 @@ int cmd_render(int argc, char **argv)
         printf("frames: %u after the first, %.1f ms per frame (solve only), %s\n", o.frames,
                frame_ms / o.frames, o.frame_out ? o.frame_out : "last frame written below");
 
-    for (int k = 0; k < 2; k++) {
-        const char *path = k == 0 ? o.exr : o.png;
+    /* The last frame's view again, of where the emitters are: the mask
+     * xrad compare leaves out of its figures (README "Accuracy"). */
+    if (o.exr && method_emitter_mask(ctx, scene, &view, &emitter, &err))
+        goto fail;
+    for (int k = 0; k < 3; k++) {
+        const char *path = k == 0 ? o.exr : k == 1 ? o.png : o.atlas;
         if (!path)
             continue;
         if (!cli_make_parent_dirs(path)) {
             cli_fail(&err, XRAD_ERROR_SYSTEM, "%s: cannot create its directory", path);
             goto fail;
         }
-        xrad_status st = k == 0 ? xrad_image_write_exr(path, image, w, h, &err)
-                                : xrad_image_write_png(path, image, w, h, exposure, &err);
+        xrad_status st =
+            k == 0   ? xrad_image_write_exr_channel(path, image, "emitter", emitter, w, h, &err)
+            : k == 1 ? xrad_image_write_png(path, image, w, h, exposure, &err)
+                     : xrad_image_write_exr(path, atlas.rgba, atlas.width, atlas.height, &err);
         if (st)
             goto fail;
-        printf("wrote %s (%ux%u)\n", path, w, h);
+        if (k == 2)
+            printf("wrote %s (element atlas %ux%u, %u elements)\n", path, atlas.width,
+                   atlas.height, info.elements);
+        else
+            printf("wrote %s (%ux%u)\n", path, w, h);
     }
     if (res.gpu)
         method_print_passes(&res);
@@ -245,6 +265,7 @@ fail:
 done:
     method_close(&run);
     free(image);
+    free(emitter);
     xrad_atlas_destroy(&atlas);
     xrad_context_destroy(&ctx);
     xrad_scene_destroy(&scene);

@@ -1,9 +1,13 @@
 #include "method.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "cli.h"
+/* The emitter mask needs each element's material and texel, which the
+ * public API does not give (xrad view reads the built scene the same way). */
+#include "scene/scene.h"
 
 const char *method_list(void) { return "reference, gather, progressive, incremental, cross"; }
 
@@ -242,4 +246,93 @@ void method_print_passes(const method_result *r)
     if (s->redistribute_ms > 0)
         printf("redistribution %.1f ms of %.1f ms (host wall time)\n", s->redistribute_ms,
                s->wall_ms);
+}
+
+int method_surface_emits(const xrad_scene *scene, uint32_t index)
+{
+    if (index >= scene->surface_count)
+        return 0;
+    vec3 e = scene->materials[scene->surfaces[index].material].emission;
+    return e.x > 0 || e.y > 0 || e.z > 0;
+}
+
+xrad_status method_emitter_mask(xrad_context *ctx, const xrad_scene *scene,
+                                const xrad_view_desc *view, float **mask, xrad_error *err)
+{
+    *mask = NULL;
+    xrad_atlas atlas = {0};
+    xrad_status st = xrad_atlas_create(scene, &atlas, err);
+    if (st)
+        return st;
+    for (uint32_t i = 0; i < scene->element_count; i++) {
+        const element *el = &scene->elements[i];
+        if (!method_surface_emits(scene, el->surface))
+            continue;
+        float *t = atlas.rgba + ((size_t)el->texel_y * atlas.width + el->texel_x) * 4;
+        t[0] = t[1] = t[2] = t[3] = 1;
+    }
+    float *img = NULL;
+    uint32_t w = 0, h = 0;
+    st = xrad_render_view(ctx, scene, &atlas, view, &img, &w, &h, err);
+    xrad_atlas_destroy(&atlas);
+    if (st)
+        return st;
+    /* One float per pixel, in place: pixel i's R is read before it is
+     * overwritten (i <= 4 i). */
+    for (size_t i = 0; i < (size_t)w * h; i++)
+        img[i] = img[i * 4];
+    *mask = img;
+    return XRAD_OK;
+}
+
+xrad_status method_read_image(const char *path, method_image *img, xrad_error *err)
+{
+    memset(img, 0, sizeof(*img));
+    if (cli_has_ext(path, ".png"))
+        return xrad_image_read_png(path, &img->rgba, &img->width, &img->height, err);
+    xrad_status st = xrad_image_read_exr(path, &img->rgba, &img->width, &img->height, err);
+    float *alpha = NULL;
+    uint32_t w = 0, h = 0;
+    if (!st)
+        st = xrad_image_read_exr_channel(path, "A", &alpha, &w, &h, err);
+    if (!st)
+        st = xrad_image_read_exr_channel(path, "emitter", &img->emitter, &w, &h, err);
+    /* Coverage: xrad_image_read_exr leaves alpha 1; the file's own marks
+     * the background (xrad_image_compare never counts it). */
+    if (!st && alpha)
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            img->rgba[i * 4 + 3] = alpha[i];
+    free(alpha);
+    if (st)
+        method_image_free(img);
+    return st;
+}
+
+void method_image_free(method_image *img)
+{
+    free(img->rgba);
+    free(img->emitter);
+    memset(img, 0, sizeof(*img));
+}
+
+void method_surface_label(const xrad_scene *scene, uint32_t index, char *buf, size_t n)
+{
+    xrad_surface_info s;
+    if (xrad_scene_get_surface(scene, index, &s, NULL)) {
+        snprintf(buf, n, "#%u", index);
+        return;
+    }
+    xrad_scene_info info;
+    xrad_scene_get_info(scene, &info);
+    bool unique = true;
+    for (uint32_t i = 0; i < info.surfaces && unique; i++) {
+        xrad_surface_info o;
+        if (i != index && !xrad_scene_get_surface(scene, i, &o, NULL))
+            unique = strcmp(o.name, s.name) != 0;
+    }
+    xrad_object_info obj;
+    if (unique || xrad_scene_get_object(scene, s.object, &obj, NULL))
+        snprintf(buf, n, "%s", s.name);
+    else
+        snprintf(buf, n, "%s/%s", obj.name, s.name);
 }

@@ -79,4 +79,34 @@ xrad_status method_run(xrad_context *ctx, const xrad_scene *scene, const char *n
 /* Prints "  pass  ms (count)" lines for a GPU result. */
 void method_print_passes(const method_result *r);
 
+/* ------------------------------------------------ accuracy (README "Accuracy") */
+
+/* The emitter mask of a view: width x height floats (the size
+ * xrad_render_view gives for `view`), non-zero where a pixel shows an
+ * emitting surface, partly covered edge pixels included. Drawn by
+ * xrad_render_view from an atlas holding 1 on the texels of elements whose
+ * material emits, so it is the same camera, pose and coverage as the image.
+ * *mask is malloc'd. */
+xrad_status method_emitter_mask(xrad_context *ctx, const xrad_scene *scene,
+                                const xrad_view_desc *view, float **mask, xrad_error *err);
+
+/* An image to compare: EXR (RGB; alpha from its "A" channel, 1 where it has
+ * none; the "emitter" channel when it has one) or PNG (alpha 1, no mask:
+ * PNGs carry neither). */
+typedef struct method_image {
+    float *rgba;
+    float *emitter; /* NULL: the file has no emitter channel */
+    uint32_t width, height;
+} method_image;
+
+xrad_status method_read_image(const char *path, method_image *img, xrad_error *err);
+void method_image_free(method_image *img);
+
+/* A surface's name for messages and tables: its own name when no other
+ * surface of the scene has it, else "object/surface". */
+void method_surface_label(const xrad_scene *scene, uint32_t index, char *buf, size_t n);
+
+/* 1 if surface `index`'s material emits (the metrics leave it out). */
+int method_surface_emits(const xrad_scene *scene, uint32_t index);
+
 #endif

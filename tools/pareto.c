@@ -333,7 +333,7 @@ static void put_line(FILE *f, double x1, double y1, double x2, double y2, const 
             fin(x1), fin(y1), fin(x2), fin(y2), stroke);
 }
 
-static void write_axes(FILE *f, const axis *ax, const axis *ay)
+static void write_axes(FILE *f, const axis *ax, const axis *ay, const char *error_name)
 {
     tick t[MAX_TICKS];
     size_t nt = axis_ticks(ax, t, MAX_TICKS);
@@ -363,9 +363,10 @@ static void write_axes(FILE *f, const axis *ax, const axis *ay)
                "time per frame (ms)%s</text>\n",
             (PLOT_L + PLOT_R) / 2.0, SVG_H - 22.0, ax->log ? ", log scale" : "");
     fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" font-size=\"13\" "
-               "transform=\"rotate(-90 %.1f %.1f)\">NRMSE against the reference%s</text>\n",
-            22.0, (PLOT_T + PLOT_B) / 2.0, 22.0, (PLOT_T + PLOT_B) / 2.0,
-            ay->log ? ", log scale" : "");
+               "transform=\"rotate(-90 %.1f %.1f)\">",
+            22.0, (PLOT_T + PLOT_B) / 2.0, 22.0, (PLOT_T + PLOT_B) / 2.0);
+    put_escaped(f, error_name);
+    fprintf(f, " against the reference%s</text>\n", ay->log ? ", log scale" : "");
 }
 
 /* Labels of the front, in time order. Each goes right of and above its marker
@@ -426,8 +427,9 @@ static void write_labels(FILE *f, const pareto_point *const *fr, const double *f
     fputs("</g>\n", f);
 }
 
-static void write_plot(FILE *f, const char *title, const pareto_point *p, size_t n,
-                       const pareto_point **fr, double *fx, double *fy, box *obst)
+static void write_plot(FILE *f, const char *title, const char *error_name,
+                       const pareto_point *p, size_t n, const pareto_point **fr, double *fx,
+                       double *fy, box *obst)
 {
     size_t count = 0, nf = 0, zeros = 0;
     double tlo = INFINITY, thi = -INFINITY, elo = INFINITY, elo_pos = INFINITY, ehi = -INFINITY;
@@ -473,7 +475,7 @@ static void write_plot(FILE *f, const char *title, const pareto_point *p, size_t
         fprintf(f, "; error 0 drawn on the lower edge");
     fputs("</text>\n", f);
 
-    write_axes(f, &ax, &ay);
+    write_axes(f, &ax, &ay, error_name);
     if (count == 0) {
         fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" font-size=\"16\" "
                    "fill=\"#888\">no points</text>\n",
@@ -514,6 +516,12 @@ static void write_plot(FILE *f, const char *title, const pareto_point *p, size_t
 
 int pareto_write_svg(const char *path, const char *title, const pareto_point *p, size_t n)
 {
+    return pareto_write_svg_named(path, title, "NRMSE", p, n);
+}
+
+int pareto_write_svg_named(const char *path, const char *title, const char *error_name,
+                           const pareto_point *p, size_t n)
+{
     /* Scratch for the front (pointers, pixel positions) and label obstacles
      * (front markers plus labels, so up to 2n boxes), taken before the file is
      * opened so a failed allocation leaves no half-written plot. */
@@ -547,7 +555,7 @@ int pareto_write_svg(const char *path, const char *title, const pareto_point *p,
     /* stdio need not set errno on a failed write; clear it so a stale value is
      * not reported, and fall back to EIO below. */
     errno = 0;
-    write_plot(f, title, p, n, fr, fx, fy, obst);
+    write_plot(f, title, error_name, p, n, fr, fx, fy, obst);
     bool failed = ferror(f) != 0;
     int e = errno;
     free(fr);

@@ -30,4 +30,9 @@ void pareto_mark(pareto_point *p, size_t n);
  * file cannot be written. */
 int pareto_write_svg(const char *path, const char *title, const pareto_point *p, size_t n);
 
+/* The same with the error axis named `error_name` ("surface_error", ...;
+ * XML-escaped) instead of "NRMSE". */
+int pareto_write_svg_named(const char *path, const char *title, const char *error_name,
+                           const pareto_point *p, size_t n);
+
 #endif

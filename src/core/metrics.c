@@ -99,8 +99,9 @@ xrad_status metrics_elements(const metrics_element *e, size_t n, uint32_t groups
         if (!skip[g] && garea[g] > 0) {
             double ma = ga[g] / garea[g], mb = gb[g] / garea[g];
             ratio = 1 + (ma - mb) / fmax(mb, floor_b);
-            out->surfaces++;
-            if (fabs(ratio - 1) > out->surface_error) {
+            /* The first counted surface stands until one is worse, so that
+             * a perfect match names a compared surface, not an emitter. */
+            if (out->surfaces++ == 0 || fabs(ratio - 1) > out->surface_error) {
                 out->surface_error = fabs(ratio - 1);
                 out->worst_surface = g;
                 out->worst_ratio = ratio;

@@ -28,6 +28,28 @@ struct display_pass {
 
 /* ------------------------------------------------------------ mesh */
 
+/* The drawn point (m, object space) of surface parameters (s, t).
+ *
+ * A quad whose file vertices were not coplanar was moved onto its best-fit
+ * plane on load (scene_quad_setup, up to 1% of its diagonal), and its edges
+ * moved with it: drawn so, it no longer meets the walls that share its file
+ * edges, and the background shows through the crack (the Cornell box's red
+ * wall left 77 pixels along the ceiling, the back wall and the floor at
+ * 512 x 512). So the bilinear patch through the file's vertices is drawn,
+ * at the same (s, t) as the planar quad: its edges are the file's straight
+ * edges, which the neighbours' drawn edges follow wherever the file shares
+ * them, and every element still shows at its own sample's (s, t), within
+ * planarise_offset of where the solve put it. The solve keeps the planar
+ * quad, which its form factors and hemicubes need; so a neighbour's edge
+ * samples that the planar quad puts outside the room are solved dark, and
+ * show so (the Cornell back wall's edge near the ceiling). */
+static vec3 drawn_point(const surface *sf, double s, double t)
+{
+    const double *d = sf->planarise_dist;
+    double lift = (1 - s) * (1 - t) * d[0] + s * (1 - t) * d[1] + s * t * d[2] + (1 - s) * t * d[3];
+    return v3_mad(surface_point(sf, s, t), sf->normal, lift);
+}
+
 xrad_status display_mesh_build(const xrad_scene *scene, double time, vec3 origin,
                                display_mesh *mesh, xrad_error *err)
 {
@@ -71,7 +93,7 @@ xrad_status display_mesh_build(const xrad_scene *scene, double time, vec3 origin
                 /* The element sample parameters of scene.h; the displayed
                  * vertex sits on the exact sample, not on the inward-moved
                  * corner point used for radiosity. */
-                vec3 p = surface_point(sf, (double)i / (sf->nu - 1), (double)j / (sf->nv - 1));
+                vec3 p = drawn_point(sf, (double)i / (sf->nu - 1), (double)j / (sf->nv - 1));
                 vec3 w = v3_sub(xf_point(&pose, p), origin);
                 const element *e = &el[j * sf->nu + i];
                 display_vertex *dv = &mesh->vertices[v++];
@@ -137,11 +159,15 @@ xrad_status display_camera_from(const xrad_scene *scene, const camera *c, uint32
                          "%s: camera: vertical field of view %g degrees is outside (0, 180)",
                          scene->path, c->fov_y * 180.0 / PI);
 
-    /* Near and far from the world bounding box at this time. */
+    /* Near and far from the world bounding box at this time, of the drawn
+     * corners (drawn_point). */
     vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
     for (uint32_t s = 0; s < scene->surface_count; s++) {
-        vec3 corners[4], n;
-        scene_surface_world(scene, s, time, corners, &n);
+        const surface *sf = &scene->surfaces[s];
+        xform pose = scene_object_pose(scene, sf->object, time);
+        vec3 corners[4];
+        for (int k = 0; k < 4; k++)
+            corners[k] = xf_point(&pose, drawn_point(sf, k == 1 || k == 2, k >= 2));
         for (int k = 0; k < 4; k++) {
             lo = v3(fmin(lo.x, corners[k].x), fmin(lo.y, corners[k].y), fmin(lo.z, corners[k].z));
             hi = v3(fmax(hi.x, corners[k].x), fmax(hi.y, corners[k].y), fmax(hi.z, corners[k].z));

@@ -5,7 +5,9 @@
  * coordinate, so bilinear filtering interpolates exactly between element
  * samples and, since adjacent coplanar surfaces share boundary samples,
  * shows no seam across surfaces (thesis 4.1); nearest filtering shows the
- * elements as squares.
+ * elements as squares. A surface planarised on load is drawn through its
+ * file vertices at the same sample parameters, so that it still meets its
+ * neighbours (display.c, drawn_point).
  *
  * Output: the linear B of the visible surface in an RGBA32F image (alpha 1
  * where a surface is, 0 elsewhere), D32 depth, both cleared to 0 (reversed

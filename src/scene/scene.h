@@ -86,6 +86,10 @@ typedef struct surface {
     uint32_t first_element;
     uint32_t tile_x, tile_y; /* atlas texel of element (0, 0) */
     double planarise_offset; /* m moved to make the quad planar; 0 if it was */
+    /* m: the file's vertex k is p[k] + planarise_dist[k] * normal (all 0
+     * when it was planar). The display pass draws the file's vertices so
+     * that a planarised quad still meets its neighbours (display.c). */
+    double planarise_dist[4];
 } surface;
 
 /* Elements are stored surface by surface, object by object, row-major

@@ -72,12 +72,14 @@ bool scene_quad_setup(surface *s, const vec3 in[4], char *why, size_t why_len)
         return false;
     }
     s->planarise_offset = 0;
+    memset(s->planarise_dist, 0, sizeof(s->planarise_dist));
     /* Rounding noise (relative to the size and the distance from the
      * origin) is not a warp worth reporting. */
     if (max_dist > 1e-9 * (diag + v3_len(centroid))) {
         for (int k = 0; k < 4; k++)
             p[k] = v3_mad(p[k], n, -dist[k]);
         s->planarise_offset = max_dist;
+        memcpy(s->planarise_dist, dist, sizeof(dist));
     }
 
     for (int k = 0; k < 4; k++) {

@@ -37,9 +37,10 @@
 double scene_samples_along(double len, double density);
 
 /* Validates four object-space vertices (m) as a planar convex quad and fills
- * s->p, normal, area and planarise_offset. Vertices within 1% of the longest
- * diagonal of their best-fit plane (Newell normal through the centroid) are
- * projected onto it. On failure returns false and writes the reason to why. */
+ * s->p, normal, area, planarise_offset and planarise_dist. Vertices within
+ * 1% of the longest diagonal of their best-fit plane (Newell normal through
+ * the centroid) are projected onto it. On failure returns false and writes
+ * the reason to why. */
 bool scene_quad_setup(surface *s, const vec3 in[4], char *why, size_t why_len);
 
 /* The longer of each pair of opposite edges: along u (p0p1, p3p2) and v

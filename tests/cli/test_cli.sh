@@ -20,6 +20,14 @@ expect() { # expect STATUS DESCRIPTION -- command...
         echo "FAIL: $what: exit $got, want $want: $*"
         sed 's/^/    /' "$tmp/out" "$tmp/err" | head -20
     fi
+    # The suite runs with XRAD_VALIDATION=1: any message of the layer
+    # (src/gpu/context.c prints "xrad: vulkan validation ...") fails.
+    checks=$((checks + 1))
+    if grep -q "vulkan validation" "$tmp/err"; then
+        fails=$((fails + 1))
+        echo "FAIL: $what: validation messages: $*"
+        grep "vulkan validation" "$tmp/err" | head -5 | sed 's/^/    /'
+    fi
 }
 expect_text() { # expect_text FILE PATTERN DESCRIPTION
     checks=$((checks + 1))
@@ -32,10 +40,17 @@ expect_text() { # expect_text FILE PATTERN DESCRIPTION
 
 expect 0 "top-level help" -- "$xrad" --help
 expect_text "$tmp/out" "render" "help lists commands"
-for c in render compare info devices; do
+for c in render compare info devices bench; do
     expect 0 "$c --help" -- "$xrad" "$c" --help
     expect_text "$tmp/out" "usage: xrad $c" "$c help text"
 done
+expect 0 "compare --help" -- "$xrad" compare --help
+expect_text "$tmp/out" "--scene" "compare's help has --scene"
+expect_text "$tmp/out" "surface_error" "compare's help defines its figures"
+expect 0 "bench --help" -- "$xrad" bench --help
+expect_text "$tmp/out" "--metric" "bench's help has --metric"
+expect 0 "render --help" -- "$xrad" render --help
+expect_text "$tmp/out" "--atlas" "render's help has --atlas"
 expect 1 "no command" -- "$xrad"
 expect 1 "unknown command" -- "$xrad" frobnicate
 expect 1 "render without a scene" -- "$xrad" render
@@ -90,6 +105,56 @@ expect 1 "compare a non-PNG named .png" -- "$xrad" compare "$tmp/fake.png" "$tmp
 expect_text "$tmp/err" "fake.png" "the unreadable PNG is named"
 expect 0 "compare PNGs" -- "$xrad" compare "$tmp/tiny.png" "$tmp/tiny.png"
 expect_text "$tmp/out" "^nrmse 0.0000000$" "a PNG against itself has NRMSE 0"
+
+# Accuracy figures (README "Accuracy") on the Cornell box at 64 x 64: the
+# EXR carries an emitter mask, --atlas the element solution; compare keeps
+# "nrmse" first and prints the image figures after it, compare --scene the
+# element figures. A solution against itself has every error 0.
+box="$root/scenes/cornell-box.json"
+expect 0 "render reference with --atlas" -- "$xrad" render "$box" --width 64 --height 64 --exr "$tmp/box-ref.exr" --atlas "$tmp/box-ref-atlas.exr" --quiet
+expect_text "$tmp/out" "box-ref-atlas.exr (element atlas" "render says where the atlas went"
+expect 0 "render progressive with --atlas" -- "$xrad" render "$box" --method progressive --width 64 --height 64 --exr "$tmp/box-pr.exr" --atlas "$tmp/box-pr-atlas.exr" --quiet
+expect 0 "compare images" -- "$xrad" compare "$tmp/box-pr.exr" "$tmp/box-ref.exr"
+checks=$((checks + 1))
+awk 'NR == 1 && !/^nrmse [0-9.]+$/ { exit 1 }
+     NR == 2 && !/^mean_ratio [0-9.]+$/ { exit 1 }
+     NR == 3 && !/^rel_rms [0-9.]+$/ { exit 1 }
+     NR == 4 && !/^pixels [0-9]+$/ { exit 1 }
+     END { exit NR < 5 }' "$tmp/out" ||
+    { fails=$((fails + 1)); echo "FAIL: compare's lines are not nrmse, mean_ratio, rel_rms, pixels:"; sed 's/^/    /' "$tmp/out"; }
+expect_text "$tmp/out" "^mask .*box-ref.exr$" "the mask is the reference's emitter channel"
+# The light is in view: masked pixels are fewer than the image's 4096.
+checks=$((checks + 1))
+awk '/^pixels/ { exit !($2 > 2000 && $2 < 4096) }' "$tmp/out" ||
+    { fails=$((fails + 1)); echo "FAIL: emitter and background pixels counted: $(grep pixels "$tmp/out")"; }
+expect 0 "compare an image with itself" -- "$xrad" compare "$tmp/box-ref.exr" "$tmp/box-ref.exr"
+checks=$((checks + 1))
+awk '/^nrmse|^rel_rms/ { if ($2 != 0) exit 1 } /^mean_ratio/ { if ($2 != 1) exit 1 }' "$tmp/out" ||
+    { fails=$((fails + 1)); echo "FAIL: an image against itself:"; sed 's/^/    /' "$tmp/out"; }
+# An EXR without the emitter channel (--diff writes plain RGBA): no mask.
+expect 0 "write a diff" -- "$xrad" compare "$tmp/box-pr.exr" "$tmp/box-ref.exr" --diff "$tmp/box-diff.exr"
+expect 0 "compare EXRs without masks" -- "$xrad" compare "$tmp/box-diff.exr" "$tmp/box-diff.exr"
+expect_text "$tmp/out" "^mask none" "no emitter channel, no mask"
+expect_text "$tmp/out" "^pixels 4096$" "without a mask every covered pixel counts"
+expect 0 "compare --scene, reference against itself" -- "$xrad" compare --scene "$box" "$tmp/box-ref-atlas.exr" "$tmp/box-ref-atlas.exr"
+expect_text "$tmp/out" "^surface_error 0.0000000 (floor, ratio 1.0000000)$" "no surface error against itself"
+for k in element_p50 element_p95 element_max; do
+    expect_text "$tmp/out" "^$k 0.0000000$" "$k of a solution against itself"
+done
+expect_text "$tmp/out" "^element_mean_ratio 1.0000000$" "element mean ratio against itself"
+expect 0 "compare --scene --surfaces" -- "$xrad" compare --scene "$box" "$tmp/box-pr-atlas.exr" "$tmp/box-ref-atlas.exr" --surfaces
+expect_text "$tmp/out" "^surface_error [0-9.]* ([^,]*, ratio [0-9.]*)$" "surface_error names its surface"
+expect_text "$tmp/out" "^surface floor ratio [0-9.]*$" "one line per surface"
+expect_text "$tmp/out" "^surface light emitter (not counted)$" "emitters are named as left out"
+checks=$((checks + 1))
+awk '/^surface_error/ { exit !($2 > 0) }' "$tmp/out" ||
+    { fails=$((fails + 1)); echo "FAIL: progressive has no surface error"; }
+expect 1 "compare --scene with an image for an atlas" -- "$xrad" compare --scene "$box" "$tmp/box-pr.exr" "$tmp/box-ref-atlas.exr"
+expect_text "$tmp/err" "box-pr.exr is 64x64" "the file of the wrong size is named"
+expect_text "$tmp/err" "cornell-box.json's element atlas" "the scene is named"
+expect 1 "compare images of two sizes" -- "$xrad" compare "$tmp/box-pr.exr" "$tmp/box-ref-atlas.exr"
+expect_text "$tmp/err" "box-pr.exr is 64x64 but .*box-ref-atlas.exr is" "both files are named"
+expect 1 "--surfaces without --scene" -- "$xrad" compare --surfaces "$tmp/box-pr.exr" "$tmp/box-ref.exr"
 
 # frames: the last of --frames N at --fps F is the render at time N / F
 expect 0 "frames" -- "$xrad" render "$tmp/tiny.json" --method progressive --frames 3 --fps 6 --frame-out "$tmp/frames" --exr "$tmp/last.exr" --quiet
@@ -160,12 +225,45 @@ assert len(rows) == 2, rows
 assert {r["hemicube_res"] for r in rows} == {"16", "32"}
 assert any(r["pareto"] == "1" for r in rows)
 assert all(float(r["peak_gpu_mib"]) > 0 and float(r["nrmse"]) >= 0 for r in rows)
+assert all(float(r["surface_error"]) >= 0 and r["worst_surface"] and
+           float(r["element_p95"]) >= 0 and float(r["rel_rms"]) >= 0 for r in rows)
 points = json.load(open(d + "/tiny-progressive.json"))["points"]
 assert len(points) == 2 and all("passes" in p and "settings" in p for p in points)
+assert all(p["surface_error"] is not None for p in points)
+assert json.load(open(d + "/tiny-progressive.json"))["pareto_metric"] == "surface_error"
 xml.dom.minidom.parse(d + "/tiny-progressive.svg")
 PY
 expect 1 "sweep grid without settings" -- "$xrad" bench "$tmp/tiny.json" --methods progressive --sweep grid --cache "$tmp/cache"
 expect_text "$tmp/err" "sweep-settings" "the missing option is named"
+expect 1 "unknown sweep metric" -- "$xrad" bench "$tmp/tiny.json" --sweep one --metric psnr
+expect_text "$tmp/err" "surface_error" "the metrics are listed"
+
+# Bench rows carry the accuracy figures beside nrmse, against the CPU
+# reference, and say so; a second run reads the cached reference (image,
+# mask and atlas) and gives the same figures.
+for run in 1 2; do
+    expect 0 "bench with accuracy figures ($run)" -- "$xrad" bench "$box" --methods progressive --repeat 1 --width 64 --height 64 --cache "$tmp/cache" --json "$tmp/bench$run.json"
+done
+expect_text "$tmp/err" "reference from" "the second run reads the cache"
+checks=$((checks + 1))
+python3 - "$tmp/bench1.json" "$tmp/bench2.json" <<'PY' || { fails=$((fails + 1)); echo "FAIL: bench rows"; }
+import json, sys
+a, b = (json.load(open(p))["rows"] for p in sys.argv[1:])
+keys = ["nrmse", "mean_ratio", "rel_rms", "surface_error", "worst_surface", "element_p50",
+        "element_p95", "element_max"]
+for rows in (a, b):
+    assert len(rows) == 1, rows
+    r = rows[0]
+    missing = [k for k in keys if k not in r or r[k] is None]
+    assert not missing, missing
+    assert r["reference"] == "cpu-reference" and r["element_reference"] == "cpu-reference", r
+    assert isinstance(r["worst_surface"], str) and r["worst_surface"], r
+    assert 0.5 < r["mean_ratio"] < 2 and r["rel_rms"] > 0 and r["surface_error"] > 0, r
+    assert 0 <= r["element_p50"] <= r["element_p95"] <= r["element_max"], r
+# The cached reference measures what the fresh one did.
+for k in keys:
+    assert a[0][k] == b[0][k], (k, a[0][k], b[0][k])
+PY
 
 echo "$checks checks, $fails failed"
 [ "$fails" -eq 0 ]

@@ -1,6 +1,6 @@
-/* Image I/O and metrics: EXR round trip is lossless for float data, PNG
- * pixels follow the sRGB curve, NRMSE matches its definition on images
- * built so that the answer is known in closed form. */
+/* Image I/O and metrics: EXR round trip is lossless for float data (a fifth
+ * named channel too), PNG pixels follow the sRGB curve, NRMSE matches its
+ * definition on images built so that the answer is known in closed form. */
 #include <png.h>
 #include <stdint.h>
 
@@ -62,6 +62,105 @@ static void test_exr_half_rgba(void)
     free(px);
 }
 
+/* A fifth channel beside RGBA (xrad render's "emitter"): written and read
+ * back exactly, RGBA reading unchanged by it, the coverage readable as "A",
+ * a missing channel an answer (NULL) rather than an error. */
+static void test_exr_channel(const char *dir)
+{
+    enum { W = 5, H = 3 };
+    float px[W * H * 4], mask[W * H];
+    for (int i = 0; i < W * H; i++) {
+        px[i * 4 + 0] = 0.25f * (float)i;
+        px[i * 4 + 1] = 1.0f + (float)i;
+        px[i * 4 + 2] = 2.0f * (float)i;
+        px[i * 4 + 3] = i % 4 == 0 ? 0.0f : 1.0f; /* some background */
+        mask[i] = i % 3 == 1 ? 1.0f : i == 5 ? 0.5f : 0.0f;
+    }
+    char path[512], plain[512];
+    snprintf(path, sizeof(path), "%s/emitter.exr", dir);
+    snprintf(plain, sizeof(plain), "%s/plain.exr", dir);
+    xrad_error err = {0};
+    CHECK(xrad_image_write_exr_channel(path, px, "emitter", mask, W, H, &err) == XRAD_OK, "%s",
+          err.message);
+    CHECK(xrad_image_write_exr(plain, px, W, H, &err) == XRAD_OK, "%s", err.message);
+
+    float *rgba = NULL, *ch = NULL;
+    uint32_t w = 0, h = 0;
+    CHECK(xrad_image_read_exr(path, &rgba, &w, &h, &err) == XRAD_OK, "%s", err.message);
+    CHECK(w == W && h == H, "size %ux%u", w, h);
+    if (rgba) {
+        int same = 1;
+        for (int i = 0; i < W * H; i++)
+            for (int c = 0; c < 4; c++)
+                same &= rgba[i * 4 + c] == (c == 3 ? 1.0f : px[i * 4 + c]);
+        CHECK(same, "RGB of a file with an extra channel must read as before, alpha 1");
+    }
+    free(rgba);
+
+    w = h = 0;
+    CHECK(xrad_image_read_exr_channel(path, "emitter", &ch, &w, &h, &err) == XRAD_OK, "%s",
+          err.message);
+    CHECK(ch && w == W && h == H, "emitter channel %p %ux%u", (void *)ch, w, h);
+    if (ch) {
+        int same = 1;
+        for (int i = 0; i < W * H; i++)
+            same &= ch[i] == mask[i];
+        CHECK(same, "emitter channel round trip must be exact");
+    }
+    free(ch);
+    ch = NULL;
+    CHECK(xrad_image_read_exr_channel(path, "A", &ch, &w, &h, &err) == XRAD_OK, "%s",
+          err.message);
+    if (ch) {
+        int same = 1;
+        for (int i = 0; i < W * H; i++)
+            same &= ch[i] == px[i * 4 + 3];
+        CHECK(same, "alpha read as a channel");
+    }
+    CHECK(ch != NULL, "alpha channel present");
+    free(ch);
+
+    /* Absent: OK and NULL, size still given. */
+    ch = (float *)1;
+    w = h = 0;
+    CHECK(xrad_image_read_exr_channel(plain, "emitter", &ch, &w, &h, &err) == XRAD_OK, "%s",
+          err.message);
+    CHECK(ch == NULL && w == W && h == H, "a file without the channel: %p %ux%u", (void *)ch,
+          w, h);
+
+    /* A name that would clash with RGBA: bad input naming the file. */
+    CHECK(xrad_image_write_exr_channel(path, px, "G", mask, W, H, &err) == XRAD_ERROR_INPUT,
+          "clashing name");
+    CHECK(strstr(err.message, "emitter.exr") != NULL, "message: %s", err.message);
+    /* Not an EXR: bad input naming the file. */
+    snprintf(path, sizeof(path), "%s/junk.exr", dir);
+    FILE *f = fopen(path, "w");
+    if (f) {
+        fputs("junk", f);
+        fclose(f);
+    }
+    CHECK(xrad_image_read_exr_channel(path, "emitter", &ch, &w, &h, &err) == XRAD_ERROR_INPUT,
+          "junk");
+    CHECK(strstr(err.message, "junk.exr") != NULL, "message: %s", err.message);
+}
+
+/* One channel of a half-float file (another tool's): decoded alone, the
+ * others into the sink, it is the value OpenEXR's C++ API gives. */
+static void test_exr_half_channel(void)
+{
+    char path[512];
+    test_source_path("tests/fuzz/corpus/exr/rgba-half-piz-8x8.exr", path, sizeof(path));
+    float *ch = NULL;
+    uint32_t w = 0, h = 0;
+    xrad_error err = {0};
+    CHECK(xrad_image_read_exr_channel(path, "B", &ch, &w, &h, &err) == XRAD_OK, "%s",
+          err.message);
+    CHECK(ch && w == 8 && h == 8, "B of the half file");
+    if (ch)
+        CHECK(ch[0] == 1.125f, "pixel 0 B = %g, want 1.125", ch[0]);
+    free(ch);
+}
+
 static void test_png_srgb(const char *dir)
 {
     /* Exposure 1: 0 -> 0, 1 -> 255, 0.5 -> sRGB(0.5) = 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354 -> 188;
@@ -118,6 +217,8 @@ int main(void)
     test_exr_roundtrip(dir);
     test_png_srgb(dir);
     test_exr_half_rgba();
+    test_exr_channel(dir);
+    test_exr_half_channel();
     test_nrmse();
     return test_finish();
 }

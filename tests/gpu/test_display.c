@@ -9,6 +9,10 @@
  *      render that linear function across their shared edge (no seam), and
  *      nearest filtering shows the value of the nearest element sample;
  *  (d) the nearest surface along each ray is the one shown (depth);
+ *  (e) a closed room shows a surface in every pixel: no background through
+ *      cracks where walls meet, also where a wall was planarised (its file
+ *      vertices not coplanar: the Cornell box's red wall, and a room written
+ *      here with two warped walls seen from inside);
  *  and every test ends with zero validation messages (gpu_test.h).
  */
 #include <math.h>
@@ -438,6 +442,184 @@ static void test_depth(xrad_context *ctx, gpu_timer *timer)
     xrad_scene_destroy(&scene);
 }
 
+/* ------------------------------------------------- (e) closed rooms */
+
+/* The pinhole of a scene's camera, with display_camera_from's basis
+ * (right = fwd x up, up = right x fwd); positions in m, world. */
+static pinhole scene_pinhole(const camera *c, uint32_t w, uint32_t h)
+{
+    double f[3] = {c->look_at.x - c->position.x, c->look_at.y - c->position.y,
+                   c->look_at.z - c->position.z};
+    double fl = sqrt(dot3(f, f));
+    pinhole p = {.pos = {c->position.x, c->position.y, c->position.z},
+                 .tan_half = tan(0.5 * c->fov_y),
+                 .w = w,
+                 .h = h};
+    for (int k = 0; k < 3; k++)
+        p.fwd[k] = f[k] / fl;
+    const double u[3] = {c->up.x, c->up.y, c->up.z};
+    double r[3] = {p.fwd[1] * u[2] - p.fwd[2] * u[1], p.fwd[2] * u[0] - p.fwd[0] * u[2],
+                   p.fwd[0] * u[1] - p.fwd[1] * u[0]};
+    double rl = sqrt(dot3(r, r));
+    for (int k = 0; k < 3; k++)
+        p.right[k] = r[k] / rl;
+    p.up[0] = p.right[1] * p.fwd[2] - p.right[2] * p.fwd[1];
+    p.up[1] = p.right[2] * p.fwd[0] - p.right[0] * p.fwd[2];
+    p.up[2] = p.right[0] * p.fwd[1] - p.right[1] * p.fwd[0];
+    return p;
+}
+
+/* Pixel coordinates (x right, y down, pixel centres at + 0.5) of world
+ * point x (m), the inverse of pixel_ray; the point is in front. */
+static void project(const pinhole *c, const double x[3], double *px, double *py)
+{
+    double d[3] = {x[0] - c->pos[0], x[1] - c->pos[1], x[2] - c->pos[2]};
+    double z = dot3(d, c->fwd);
+    double aspect = (double)c->w / c->h;
+    *px = (dot3(d, c->right) / (z * c->tan_half * aspect) + 1) * 0.5 * c->w;
+    *py = (1 - dot3(d, c->up) / (z * c->tan_half)) * 0.5 * c->h;
+}
+
+/* Renders `scene` from its camera at w x h with a constant atlas (linear
+ * filtering, the default image's) and counts uncovered pixels (alpha not
+ * 1): with `opening` (four world corners, m, of the room's open side, in
+ * order) only pixels whose centre is inside its projection by more than
+ * 1.5 pixels, where the room must be seen; without it, every pixel (a
+ * camera inside a closed room). Returns the count, *checked the pixels
+ * looked at. */
+static uint32_t count_holes(xrad_context *ctx, const xrad_scene *scene, uint32_t w, uint32_t h,
+                            const double (*opening)[3], uint32_t *checked, const char *what)
+{
+    *checked = 0;
+    xrad_atlas atlas;
+    xrad_error err = {0};
+    if (xrad_atlas_create(scene, &atlas, &err) != XRAD_OK) {
+        CHECK(0, "%s: atlas: %s", what, err.message);
+        return UINT32_MAX;
+    }
+    for (uint32_t s = 0; s < scene->surface_count; s++)
+        fill_surface(scene, &atlas, s, constant_value);
+    float *img = render(ctx, scene, &atlas, DISPLAY_FILTER_LINEAR_SHADER, w, h, NULL);
+    xrad_atlas_destroy(&atlas);
+    if (!img)
+        return UINT32_MAX;
+    pinhole cam = scene_pinhole(&scene->cam, w, h);
+    double corner[4][2];
+    for (int k = 0; opening && k < 4; k++)
+        project(&cam, opening[k], &corner[k][0], &corner[k][1]);
+    uint32_t holes = 0;
+    for (uint32_t py = 0; py < h; py++) {
+        for (uint32_t px = 0; px < w; px++) {
+            if (opening) {
+                /* Signed distances (pixels) from the four projected edges,
+                 * all of one sign inside. */
+                double x = px + 0.5, y = py + 0.5, lo = INFINITY, hi = -INFINITY;
+                for (int k = 0; k < 4; k++) {
+                    const double *a = corner[k], *b = corner[(k + 1) % 4];
+                    double ex = b[0] - a[0], ey = b[1] - a[1];
+                    double dist = (ex * (y - a[1]) - ey * (x - a[0])) / sqrt(ex * ex + ey * ey);
+                    lo = fmin(lo, dist);
+                    hi = fmax(hi, dist);
+                }
+                if (!(lo > 1.5 || hi < -1.5))
+                    continue;
+            }
+            (*checked)++;
+            holes += img[4 * ((size_t)py * w + px) + 3] != 1.0f;
+        }
+    }
+    free(img);
+    fprintf(stderr, "%s: %u of %u pixels uncovered\n", what, holes, *checked);
+    return holes;
+}
+
+/* A 4 x 3 x 3 m room, every wall facing in, with two corners moved off
+ * the box so that two walls are warped and planarised on load (as the
+ * Cornell box's red wall is): (4, 3, 3) by 0.12 m along x warps the wall
+ * x = 4 (vertices ~3 cm from their best-fit plane), (0, 0, 0) by 0.1 m
+ * down warps the floor; the walls sharing those corners stay planar. */
+#define ROOM_C000 "[0, -0.1, 0]"
+#define ROOM_C100 "[4, 0, 0]"
+#define ROOM_C010 "[0, 3, 0]"
+#define ROOM_C110 "[4, 3, 0]"
+#define ROOM_C001 "[0, 0, 3]"
+#define ROOM_C101 "[4, 0, 3]"
+#define ROOM_C011 "[0, 3, 3]"
+#define ROOM_C111 "[4.12, 3, 3]"
+#define ROOM_WALL(name, a, b, c, d)                                                             \
+    "{\"name\": \"" name "\", \"material\": \"grey\", \"vertices\": [" a ", " b ", " c ", " d  \
+    "]}"
+static const char *warped_room_scene =
+    "{\"unit\": \"m\", \"density\": 3,"
+    " \"materials\": [{\"name\": \"grey\", \"albedo\": [0.5, 0.5, 0.5]}],"
+    " \"objects\": [{\"name\": \"room\", \"surfaces\": ["
+    ROOM_WALL("floor", ROOM_C000, ROOM_C001, ROOM_C101, ROOM_C100) ", "
+    ROOM_WALL("ceiling", ROOM_C010, ROOM_C110, ROOM_C111, ROOM_C011) ", "
+    ROOM_WALL("left", ROOM_C000, ROOM_C010, ROOM_C011, ROOM_C001) ", "
+    ROOM_WALL("right", ROOM_C100, ROOM_C101, ROOM_C111, ROOM_C110) ", "
+    ROOM_WALL("front", ROOM_C000, ROOM_C100, ROOM_C110, ROOM_C010) ", "
+    ROOM_WALL("back", ROOM_C001, ROOM_C011, ROOM_C111, ROOM_C101) "]}],"
+    " \"camera\": {\"position\": [1.5, 1.2, 1], \"look_at\": [4, 2, 3], \"up\": [0, 1, 0],"
+    "  \"fov_degrees\": 75, \"width\": 160, \"height\": 120}}";
+
+static void test_closed_rooms(xrad_context *ctx)
+{
+    /* The Cornell boxes' open fronts (z = 0, m), from the scene files. */
+    static const double box_opening[4][3] = {
+        {0.5528, 0, 0}, {0, 0, 0}, {0, 0.5488, 0}, {0.556, 0.5488, 0}};
+    static const double large_opening[4][3] = {
+        {0.556, 0, 0}, {0, 0, 0}, {0, 0.5488, 0}, {0.556, 0.5488, 0}};
+    static const struct {
+        const char *file;
+        const double (*opening)[3];
+        uint32_t size;
+    } files[] = {
+        {"scenes/cornell-box.json", box_opening, 512}, /* the headline image's size */
+        {"scenes/cornell-large.json", large_opening, 256},
+    };
+    for (size_t f = 0; f < sizeof(files) / sizeof(files[0]); f++) {
+        char path[1024];
+        xrad_scene *scene = NULL;
+        xrad_error err = {0};
+        CHECK(xrad_scene_load(test_source_path(files[f].file, path, sizeof path), &scene,
+                              &err) == XRAD_OK,
+              "%s: %s", files[f].file, err.message);
+        if (!scene)
+            continue;
+        uint32_t checked = 0;
+        uint32_t holes = count_holes(ctx, scene, files[f].size, files[f].size, files[f].opening,
+                                     &checked, files[f].file);
+        CHECK(holes == 0 && checked > files[f].size * files[f].size / 2,
+              "%s: %u of %u pixels inside the room show no surface", files[f].file, holes,
+              checked);
+        xrad_scene_destroy(&scene);
+    }
+
+    xrad_scene *scene = parse(warped_room_scene);
+    if (!scene)
+        return;
+    uint32_t warped = 0;
+    for (uint32_t s = 0; s < scene->surface_count; s++)
+        warped += scene->surfaces[s].planarise_offset > 0.01;
+    CHECK(warped == 2, "the test room has %u walls planarised by more than 1 cm, want 2", warped);
+    /* From inside, towards each warped corner and along the room. */
+    static const double views[3][2][3] = {
+        {{1.5, 1.2, 1}, {4, 2, 3}},
+        {{2.5, 2, 2}, {0, 0, 0}},
+        {{0.5, 1.5, 0.5}, {4, 1.5, 3}},
+    };
+    for (int v = 0; v < 3; v++) {
+        scene->cam.position = v3(views[v][0][0], views[v][0][1], views[v][0][2]);
+        scene->cam.look_at = v3(views[v][1][0], views[v][1][1], views[v][1][2]);
+        char what[64];
+        snprintf(what, sizeof what, "warped room, view %d", v);
+        uint32_t checked = 0;
+        uint32_t holes = count_holes(ctx, scene, 160, 120, NULL, &checked, what);
+        CHECK(holes == 0, "%s: %u of %u pixels show no surface", what, holes, checked);
+    }
+    xrad_scene_destroy(&scene);
+}
+
 int main(void)
 {
     xrad_context *ctx = gpu_test_context();
@@ -448,6 +630,7 @@ int main(void)
     CHECK(gpu_timer_create(ctx, 4, &timer, &err) == XRAD_OK, "timer: %s", err.message);
     test_constant(ctx);
     test_seam(ctx);
+    test_closed_rooms(ctx);
     if (timer) {
         test_depth(ctx, timer);
         if (timer->supported) {
