@@ -13,10 +13,13 @@
  *  - B and Bu receive the same amount, per channel with the receiver's
  *    albedo; the shooter's own surface and a plate facing away receive
  *    nothing;
- *  - a hemicube showing another surface blocks everything;
- *  - half of every hemicube face blocked, with a rotated frame: an element
- *    receives exactly when its texel or one of the 8 around it (found with
- *    the C conventions of src/passes/hemicube_geometry.h) shows it.
+ *  - a hemicube showing a plate between shooter and receiver blocks
+ *    everything;
+ *  - half of every hemicube face showing that plate, with a rotated frame:
+ *    an element receives exactly when its texel shows it (exact check), or
+ *    when none of its texel and the 8 around it (found with the C
+ *    conventions of src/passes/hemicube_geometry.h) shows the plate
+ *    (nearest-texel check with the occluder test).
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -48,7 +51,7 @@ static const char *plates_json =
     "{\"name\":\"receiver\",\"material\":\"r\",\"elements\":[17,17],"
     " \"quad\":{\"origin\":[0,0,1],\"u\":[0,1,0],\"v\":[1,0,0]}},"
     "{\"name\":\"away\",\"material\":\"a\",\"elements\":[5,5],"
-    " \"quad\":{\"origin\":[0,0,1.5],\"u\":[1,0,0],\"v\":[0,1,0]}}"
+    " \"quad\":{\"origin\":[-1,-1,0.5],\"u\":[3,0,0],\"v\":[0,3,0]}}"
     "]}],\"camera\":{\"position\":[0.5,0.5,3],\"look_at\":[0.5,0.5,0],\"up\":[0,1,0],"
     "\"fov_degrees\":60}}";
 
@@ -58,6 +61,7 @@ static const double angle = 0.7;                 /* hemicube rotation about the 
 typedef struct rig {
     xrad_scene *scene;
     gpu_buffer surfaces, elements, materials, B, Bu, shooters, status;
+    gpu_buffer snapshot; /* the shot surface's Bu by element (select's `shot`) */
     gpu_image ids;
     reconstruct_pass *pass;
     uint32_t count; /* shooters */
@@ -160,6 +164,7 @@ static int rig_create(xrad_context *ctx, uint32_t max_shooters, rig *r)
         (st = host_buffer(ctx, sc->element_count * sizeof(vec4), &r->Bu, &err)) ||
         (st = host_buffer(ctx, max_shooters * sizeof(struct gpu_shooter), &r->shooters, &err)) ||
         (st = host_buffer(ctx, sizeof(struct select_status), &r->status, &err)) ||
+        (st = host_buffer(ctx, sc->element_count * sizeof(vec4), &r->snapshot, &err)) ||
         (st = gpu_image_create(ctx, &ids, &r->ids, &err)) ||
         (st = reconstruct_create(ctx, &r->pass, &err))) {
         CHECK(0, "resources: %s", err.message);
@@ -197,7 +202,11 @@ static int rig_create(xrad_context *ctx, uint32_t max_shooters, rig *r)
                      &(reconstruct_bindings){&r->surfaces, &r->elements, &r->materials, &r->B,
                                              &r->Bu, &r->shooters, &r->status, r->ids.view,
                                              /* unused without conservation */
-                                             &r->B, &r->B});
+                                             &r->B, &r->B, &r->snapshot});
+    /* Every element of the shooter shoots `shot`, as every patch does. */
+    vec4 *snap = r->snapshot.alloc.mapped;
+    for (uint32_t k = 0; k < sc->element_count; k++)
+        snap[k] = (vec4){shot[0], shot[1], shot[2], 0};
     return 1;
 }
 
@@ -206,6 +215,7 @@ static void rig_destroy(xrad_context *ctx, rig *r)
     reconstruct_destroy(ctx, &r->pass);
     gpu_image_destroy(ctx, &r->ids);
     gpu_buffer_destroy(ctx, &r->status);
+    gpu_buffer_destroy(ctx, &r->snapshot);
     gpu_buffer_destroy(ctx, &r->shooters);
     gpu_buffer_destroy(ctx, &r->Bu);
     gpu_buffer_destroy(ctx, &r->B);
@@ -292,9 +302,11 @@ static double howell_c11(double a, double b, double c)
 
 static uint32_t all_receiver(int face, uint32_t x, uint32_t y) { return RECEIVER + 1; }
 static uint32_t all_away(int face, uint32_t x, uint32_t y) { return AWAY + 1; }
+/* The right half shows the plate between shooter and receiver: an
+ * occluder the nearest-texel check must respect (spirv/shooting.glsl). */
 static uint32_t left_half(int face, uint32_t x, uint32_t y)
 {
-    return x < RES / 2 ? RECEIVER + 1 : HEMICUBE_ID_NONE;
+    return x < RES / 2 ? RECEIVER + 1 : AWAY + 1;
 }
 
 typedef struct result {
@@ -399,8 +411,9 @@ static void test_open(xrad_context *ctx)
     CHECK(plain.mean_rel > 10 * one.mean_rel, "one disk (%g) is not worse than exact (%g)",
           plain.mean_rel, one.mean_rel);
 
-    /* Every hemicube shows the plate facing away: it is behind its own
-     * front, and the receiver is hidden. Nothing is received anywhere. */
+    /* Every hemicube shows the plate between shooter and receiver, which
+     * every segment from one to the other crosses: the receiver is hidden.
+     * Nothing is received anywhere. */
     if (fill_ids(ctx, &r, all_away) && run(ctx, &r, 0.1, false)) {
         uint32_t lit = 0;
         const vec4 *B = r.B.alloc.mapped;
@@ -443,7 +456,9 @@ static void test_half(xrad_context *ctx)
         double frac = col - floor(col);
         ambiguous[k] = frac < 1e-3 || frac > 1 - 1e-3;
         exact[k] = px < RES / 2;
-        near[k] = px < RES / 2 + 1; /* column px - 1 is in the visible half */
+        /* Visible where none of the 3 x 3 texels shows the occluder:
+         * column px + 1 is in the visible half. */
+        near[k] = px + 1 < RES / 2;
         counts[exact[k]]++;
     }
     CHECK(counts[0] > 20 && counts[1] > 20, "the half split leaves %u / %u elements", counts[0],

@@ -37,6 +37,7 @@ static const double luma[3] = {0.2126, 0.7152, 0.0722};
 typedef struct rig {
     xrad_scene *scene;
     gpu_buffer surfaces, elements, Bu, shooters, status;
+    gpu_buffer snapshot; /* select's `shot`: the shot surface's Bu by element */
     select_pass *pass;
     uint32_t max_shooters;
 } rig;
@@ -77,6 +78,7 @@ static int rig_create(xrad_context *ctx, const char *json, uint32_t max_shooters
         (st = host_buffer(ctx, sc->element_count * sizeof(vec4), &r->Bu, &err)) ||
         (st = host_buffer(ctx, max_shooters * sizeof(struct gpu_shooter), &r->shooters, &err)) ||
         (st = host_buffer(ctx, sizeof(struct select_status), &r->status, &err)) ||
+        (st = host_buffer(ctx, select_shot_capacity(sc) * sizeof(vec4), &r->snapshot, &err)) ||
         (st = select_create(ctx, sc->surface_count, &r->pass, &err))) {
         CHECK(0, "buffers: %s", err.message);
         return 0;
@@ -105,7 +107,8 @@ static int rig_create(xrad_context *ctx, const char *json, uint32_t max_shooters
         }
     }
     select_bind(ctx, r->pass,
-                &(select_buffers){&r->surfaces, &r->elements, &r->Bu, &r->shooters, &r->status});
+                &(select_buffers){&r->surfaces, &r->elements, &r->Bu, &r->shooters, &r->status,
+                                  &r->snapshot});
     return 1;
 }
 
@@ -113,6 +116,7 @@ static void rig_destroy(xrad_context *ctx, rig *r)
 {
     select_destroy(ctx, &r->pass);
     gpu_buffer_destroy(ctx, &r->status);
+    gpu_buffer_destroy(ctx, &r->snapshot);
     gpu_buffer_destroy(ctx, &r->shooters);
     gpu_buffer_destroy(ctx, &r->Bu);
     gpu_buffer_destroy(ctx, &r->elements);
@@ -259,15 +263,21 @@ static void check_shot(const rig *r, uint32_t s, const vec4 *bu_before, double p
     for (int c = 0; c < 3; c++)
         CHECK(fabs(shot[c] - before[c]) <= 1e-5 * fabs(before[c]) + 1e-12,
               "channel %d: patches shoot %.9g, the surface held %.9g", c, shot[c], before[c]);
-    uint32_t changed = 0, not_zero = 0;
+    uint32_t changed = 0, not_zero = 0, not_kept = 0;
+    const vec4 *snap = r->snapshot.alloc.mapped;
     for (uint32_t e = 0; e < sc->element_count; e++) {
         bool own = sc->elements[e].surface == s;
-        if (own)
+        if (own) {
             not_zero += bu[e].x != 0 || bu[e].y != 0 || bu[e].z != 0;
-        else
+            /* The reconstruct pass's near field reads what was shot. */
+            not_kept += memcmp(&snap[e - sf->first_element], &bu_before[e], sizeof(vec4)) != 0;
+        } else {
             changed += memcmp(&bu[e], &bu_before[e], sizeof(vec4)) != 0;
+        }
     }
     CHECK(not_zero == 0, "%u elements of the chosen surface keep unshot radiosity", not_zero);
+    CHECK(not_kept == 0, "%u elements of the chosen surface are not in the shot snapshot",
+          not_kept);
     CHECK(changed == 0, "%u elements of other surfaces changed", changed);
 }
 
@@ -341,7 +351,7 @@ static void test_argmax(xrad_context *ctx)
 static void expect_counts(const surface *sf, double lu, double lv, double ratio, uint32_t mp,
                           uint32_t *kx, uint32_t *ky)
 {
-    double n = (double)mp * mp * ratio;
+    double n = (double)mp * mp * sqrt(ratio);
     double x = ceil(sqrt(n * lu / lv) - 1e-3), y = ceil(sqrt(n * lv / lu) - 1e-3);
     double cx = sf->nu < mp ? sf->nu : mp, cy = sf->nv < mp ? sf->nv : mp;
     *kx = (uint32_t)fmax(1, fmin(x, cx));
@@ -382,11 +392,12 @@ static void test_rule(xrad_context *ctx)
     static const uint32_t order[4] = {0, 3, 1, 2};
     static const double ratio[4] = {1, 0.5, 0.25, 1.0 / 64};
     static const double lu[4] = {1, 1, 2, 0.5}, lv[4] = {1, 1, 1, 0.5};
-    /* By hand: the square 9 x 9 surface at full power 8 x 8 (max_patches);
-     * the 2 x 2 one at half power 2 x 2 (its element counts); the 2:1 one at
-     * a quarter 16 patches as ceil(sqrt(32)) x ceil(sqrt(8)) = 6 x 3; the
-     * dimmest, at 1/64, a single patch. */
-    static const uint32_t by_hand[4][2] = {{8, 8}, {2, 2}, {6, 3}, {1, 1}};
+    /* By hand, with max_patches^2 sqrt(power / largest) patches: the
+     * square 9 x 9 surface at full power 8 x 8 (max_patches); the 2 x 2 one
+     * at half power 2 x 2 (its element counts); the 2:1 one at a quarter 32
+     * patches as ceil(sqrt(64)) x ceil(sqrt(16)) = 8 x 4; the dimmest, at
+     * 1/64, 8 patches as 3 x 3 (ceil(sqrt(8)) each way; 3 elements a side). */
+    static const uint32_t by_hand[4][2] = {{8, 8}, {2, 2}, {8, 4}, {3, 3}};
     size_t bytes = r.scene->element_count * sizeof(vec4);
     vec4 *before = malloc(bytes);
     uint32_t patches = 0;
