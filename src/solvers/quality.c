@@ -267,9 +267,9 @@ static const struct {
 } presets[] = {
     /*        res msaa id  subdiv max  thresh batch shots grid back bmsaa fmt amb cons density */
     {"draft",       {32, 1, 1, 0.1, 2, 1e-2, 64, 0, 1, 8, 1, 1, 2, 1, 0.5}},
-    {"interactive", {64, 1, 1, 0.01, 4, 1e-3, 32, 0, 2, 16, 4, 1, 2, 1, 1}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-4, 32, 0, 4, 32, 4, 1, 1, 1, 1}},
-    {"reference",   {256, 4, 1, 0.001, 16, 1e-5, 32, 0, 8, 64, 4, 2, 1, 1, 2}},
+    {"interactive", {64, 1, 1, 0.01, 8, 1e-3, 32, 0, 2, 16, 4, 1, 2, 1, 1}},
+    {"high",        {128, 4, 1, 0.01, 16, 1e-4, 32, 0, 4, 32, 4, 1, 1, 1, 1}},
+    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 32, 0, 8, 64, 4, 2, 1, 1, 2}},
 };
 
 const char *xrad_quality_preset_list(void)

@@ -273,6 +273,25 @@ int main(int argc, char **argv)
                               XRAD_METHOD_INCREMENTAL, XRAD_METHOD_CROSS};
     size_t nmethods = 4;
     uint32_t first = 0, last = ROOMS_COUNT - 1;
+    /* --write DIR: the rooms as scene files (DIR/room-N.json), for xrad
+     * bench and the README's tables; no test. */
+    if (argc == 3 && !strcmp(argv[1], "--write")) {
+        for (uint32_t i = 0; i < ROOMS_COUNT; i++) {
+            rooms_room room = {0};
+            char path[1024];
+            snprintf(path, sizeof(path), "%s/room-%u.json", argv[2], i);
+            FILE *f = rooms_make(i, ROOMS_SEED, &room) ? NULL : fopen(path, "w");
+            int ok = f && fputs(room.json, f) >= 0;
+            ok = (f && fclose(f) == 0) && ok;
+            rooms_free(&room);
+            if (!ok) {
+                fprintf(stderr, "%s: cannot write\n", path);
+                return 2;
+            }
+            printf("wrote %s: %s\n", path, room.name);
+        }
+        return 0;
+    }
     for (int i = 1; i < argc; i++) {
         unsigned a, b;
         if (sscanf(argv[i], "%u-%u", &a, &b) == 2 && a <= b && b < ROOMS_COUNT) {
@@ -282,8 +301,10 @@ int main(int argc, char **argv)
             methods[0] = xrad_method_from_name(argv[i]);
             nmethods = 1;
         } else {
-            fprintf(stderr, "usage: %s [gather|progressive|incremental|cross] [FIRST-LAST]\n",
-                    argv[0]);
+            fprintf(stderr,
+                    "usage: %s [gather|progressive|incremental|cross] [FIRST-LAST]\n"
+                    "       %s --write DIR\n",
+                    argv[0], argv[0]);
             return 2;
         }
     }
