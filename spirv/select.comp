@@ -66,7 +66,8 @@ vec2 param_range(uint i0, uint i1, uint n)
 // centre's and its receivers nearby see the error of that whatever the
 // power: in the Cornell box the blocks' sides were 7-11% dark with the
 // linear rule at 8, 3-5% with the square root at 12 (a shot costs its
-// patches' hemicubes and one reconstruct over every element per patch).
+// patches' hemicubes and one reconstruct over every element per patch, so
+// the default stays at 8).
 uvec2 patch_counts(gpu_surface sf, float power, float max_power)
 {
     if (sf.patches_s != 0u && sf.patches_s * sf.patches_t <= pc.max_shooters)

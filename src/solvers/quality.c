@@ -44,7 +44,7 @@ static const setting settings[] = {
       XRAD_SETTING_REAL, 0.01, 0, 1e6, NULL},
      SOLVER(subdivide_ratio), RULE_OPEN_LOW},
     {{"max_patches", "most shooting patches along a surface side (shooter subdivision)",
-      XRAD_SETTING_INTEGER, 12, 1, 64, NULL},
+      XRAD_SETTING_INTEGER, 8, 1, 64, NULL},
      SOLVER(max_patches), RULE_NONE},
     {{"threshold",
       "stop when the largest unshot power (or bounce change) relative to the emitted power is "

@@ -46,7 +46,12 @@ static bool solver_memory(xrad_context *ctx, const xrad_scene *scene, xrad_metho
 {
     xrad_error err = {0};
     xrad_solver *s = NULL;
-    xrad_solver_desc d = {.method = method, .hemicube_res = 32};
+    /* The shooter table and its ID hemicubes hold min(nu, max_patches) x
+     * min(nv, max_patches) patches of the scene's largest surface: 8 keeps
+     * that at its cap over the densities of test_linear_growth, whose
+     * rooms' walls have 9 samples a side and more, so what grows is what
+     * follows the elements. */
+    xrad_solver_desc d = {.method = method, .hemicube_res = 32, .max_patches = 8};
     xrad_status st = xrad_solver_create(ctx, scene, &d, &s, &err);
     CHECK(st == XRAD_OK, "%s: %s", xrad_method_name(method), err.message);
     if (!st)

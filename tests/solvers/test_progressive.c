@@ -112,8 +112,10 @@ static const char *furnace_json =
 /* Without conservation every element within 1% of E / (1 - rho): the
  * receivers' point form factors close within 1e-4 here. With it (the
  * default), each shot passes on exactly its power: the mean within 0.5%,
- * while the per-shooter scaling moves elements near the box's edges by up
- * to about 3%. */
+ * while the per-shooter scaling moves the quarter cells in its corners by
+ * up to about 4% (3.8% measured with the patch count following the square
+ * root of the power share, issue 14; 3% with it linear; 6.9% with 12
+ * patches a side: finer patches by a corner take scalings further apart). */
 static void furnace(xrad_context *ctx, uint32_t conserve)
 {
     xrad_scene *scene = NULL;
@@ -160,7 +162,7 @@ static void furnace(xrad_context *ctx, uint32_t conserve)
                 "furnace rho 0.9, conservation %s: mean B %.5f (want 10), worst relative error "
                 "%.4f\n",
                 on ? "on" : "off", mean, worst);
-        CHECK(worst <= (on ? 3e-2 : 1e-2), "furnace: worst relative error %g", worst);
+        CHECK(worst <= (on ? 4.5e-2 : 1e-2), "furnace: worst relative error %g", worst);
         CHECK(!on || fabs(mean - 10) <= 0.05, "furnace: mean %g", mean);
     }
     xrad_solver_destroy(&solver);
