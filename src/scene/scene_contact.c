@@ -39,6 +39,26 @@ static bool inside_quad(const vec3 c[4], vec3 n, vec3 x, double margin)
     return true;
 }
 
+/* Every surface's world corners (4 each) and normal at time t, malloc'd
+ * into *corners and *normals (free both). */
+static xrad_status world_quads(const xrad_scene *scene, double t, vec3 **corners,
+                               vec3 **normals, xrad_error *err)
+{
+    uint32_t ns = scene->surface_count;
+    *corners = malloc((ns ? ns : 1) * sizeof(vec3[4]));
+    *normals = malloc((ns ? ns : 1) * sizeof(vec3));
+    if (!*corners || !*normals) {
+        free(*corners);
+        free(*normals);
+        *corners = *normals = NULL;
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for %u surfaces' contact",
+                         scene->path, ns);
+    }
+    for (uint32_t s = 0; s < ns; s++)
+        scene_surface_world(scene, s, t, &(*corners)[4 * s], &(*normals)[s]);
+    return XRAD_OK;
+}
+
 xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
                               uint8_t *buried, uint32_t *count, xrad_error *err)
 {
@@ -46,16 +66,10 @@ xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
     *count = 0;
     for (uint32_t e = 0; e < scene->element_count; e++)
         buried[e] = 0;
-    vec3 *corners = malloc((ns ? ns : 1) * sizeof(vec3[4]));
-    vec3 *normals = malloc((ns ? ns : 1) * sizeof(vec3));
-    if (!corners || !normals) {
-        free(corners);
-        free(normals);
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory finding buried elements",
-                         scene->path);
-    }
-    for (uint32_t s = 0; s < ns; s++)
-        scene_surface_world(scene, s, time, &corners[4 * s], &normals[s]);
+    vec3 *corners, *normals;
+    xrad_status st = world_quads(scene, time, &corners, &normals, err);
+    if (st)
+        return st;
     /* Pairs first: a cover must face the receiver's surface (normals
      * opposed) and lie in its plane (every corner within tol), which few
      * pairs do; only their elements are tested one by one. */
@@ -124,19 +138,13 @@ xrad_status scene_find_enclosed(const xrad_scene *scene, uint8_t *enclosed, uint
      * (seconds on one core) a scene goes without the test. */
     if ((double)scene->element_count * ns > SCENE_ENCLOSED_MAX_WORK)
         return XRAD_OK;
-    vec3 *corners = malloc((ns ? ns : 1) * sizeof(vec3[4]));
-    vec3 *normals = malloc((ns ? ns : 1) * sizeof(vec3));
-    if (!corners || !normals) {
-        free(corners);
-        free(normals);
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory finding enclosed elements",
-                         scene->path);
-    }
+    vec3 *corners, *normals;
+    xrad_status st = world_quads(scene, 0.0, &corners, &normals, err);
+    if (st)
+        return st;
     vec3 lo, hi;
     scene_bounds(scene, 0.0, &lo, &hi);
     double diameter = v3_len(v3_sub(hi, lo));
-    for (uint32_t s = 0; s < ns; s++)
-        scene_surface_world(scene, s, 0.0, &corners[4 * s], &normals[s]);
     for (uint32_t r = 0; r < ns; r++) {
         const surface *sr = &scene->surfaces[r];
         if (scene->objects[sr->object].dynamic)
