@@ -227,7 +227,7 @@ float seen(uint p, vec3 x, vec3 ne, uint id)
     gpu_shooter f = frame(CROSS_FRAMES_FRONT, p);
     if (!facing(f, x, ne, d, cosines, local) ||
         !shooting_visible(ids, pc.hemicube_res, pc.neighbours != 0u, local, p, id, f.pos_area.xyz,
-                          x, true))
+                          x, false))
         return 0.0;
     return form_factor(f, quads[p], x, ne, d, cosines);
 }
@@ -247,7 +247,7 @@ vec3 lit_direct(vec3 x, vec3 ne, uint id)
         gpu_shooter f = lights[l];
         if (facing(f, x, ne, d, cosines, local) &&
             shooting_visible(light_ids, pc.hemicube_res, pc.neighbours != 0u, local, l, id,
-                             f.pos_area.xyz, x, true))
+                             f.pos_area.xyz, x, false))
             sum += form_factor(f, light_quads[l], x, ne, d, cosines) *
                    materials[surfaces[f.surface].material].emission.rgb;
     }
@@ -284,7 +284,7 @@ vec3 blocked_direct(vec3 x, vec3 ne, uint id)
         gpu_shooter f = lights[l];
         if (facing(f, x, ne, d, cosines, local) && shows_m(light_ids, local, l) &&
             shooting_visible(light_ids_c, pc.hemicube_res, pc.neighbours != 0u, local, l, id,
-                             f.pos_area.xyz, x, true))
+                             f.pos_area.xyz, x, false))
             sum += form_factor(f, light_quads[l], x, ne, d, cosines) *
                    materials[surfaces[f.surface].material].emission.rgb;
     }

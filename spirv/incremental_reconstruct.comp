@@ -127,19 +127,19 @@ void receive(uint e)
         vec3 r;
         if (pc.mode == INCR_MODE_NEGATIVE) {
             if (!shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                  sh.pos_area.xyz, x, true))
+                                  sh.pos_area.xyz, x, false))
                 continue;
             r = -values[k].shot.rgb;
         } else if (moving) {
             if (!shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                  sh.pos_area.xyz, x, true))
+                                  sh.pos_area.xyz, x, false))
                 continue;
             r = values[k].total.rgb;
         } else {
             bool was = shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
                                         sh.pos_area.xyz, x, false);
             bool is = shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                       sh.pos_area.xyz, x, true);
+                                       sh.pos_area.xyz, x, false);
             if (!was && !is)
                 continue;
             r = was && !is   ? -values[k].shot.rgb  // occluded by M

@@ -95,7 +95,7 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh)
                 for (uint i = i0; i <= i1; i++) {
                     uint k = j * sf.nu + i;
                     gpu_element el = elements[sf.first_element + k];
-                    if ((el.flags & GPU_ELEMENT_BURIED_ANY) != 0u && sf.patches_s == 0u)
+                    if ((el.flags & GPU_ELEMENT_BURIED) != 0u && sf.patches_s == 0u)
                         continue;
                     lum += el.pos_area.w * dot(shot[k].rgb, LUMA);
                     area += el.pos_area.w;

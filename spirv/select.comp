@@ -163,7 +163,9 @@ void main()
         uint j0 = py * sf.nv / ky, j1 = (py + 1u) * sf.nv / ky - 1u;
         // A patch shoots from its open elements only: where it runs under a
         // block standing on the surface, its buried elements (no light
-        // reaches them, gpu_element.flags) would dilute the mean radiosity
+        // reaches them, gpu_element.flags; under a static cover: under a
+        // moving one, cross gives an element negative light to shoot when
+        // M arrives) would dilute the mean radiosity
         // that the receivers beside the block take (cornell-large's plinth
         // faces 0.79 of the CPU reference's), and its quad is cut to their
         // bounds so that the near-field form factor covers no buried part
@@ -176,7 +178,7 @@ void main()
         for (uint j = j0; j <= j1; j++) {
             for (uint i = i0; i <= i1; i++) {
                 uint e = sf.first_element + j * sf.nu + i;
-                if (!fixed_patch && (elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u)
+                if (!fixed_patch && (elements[e].flags & GPU_ELEMENT_BURIED) != 0u)
                     continue;
                 float a = elements[e].pos_area.w;
                 sum += Bu[e].rgb * a;
@@ -221,7 +223,7 @@ void main()
     bool fixed_surface = sf.patches_s != 0u;
     for (uint k = t; k < n; k += SELECT_GROUP) {
         uint e = sf.first_element + k;
-        bool buried = !fixed_surface && (elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u;
+        bool buried = !fixed_surface && (elements[e].flags & GPU_ELEMENT_BURIED) != 0u;
         shot[k] = buried ? vec4(0.0) : Bu[e];
         Bu[e] = vec4(0.0);
     }

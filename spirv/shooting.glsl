@@ -50,36 +50,41 @@ bool shooting_blocks(gpu_surface sf, vec3 o, vec3 x)
 // own quad decides, which also keeps the shadow's edge where the geometry
 // puts it instead of a texel off.
 //
-// `dynamic_posed`: the surfaces buffer holds moving surfaces at the pose
-// the hemicube was drawn in. Where it does not (a hemicube of an old pose),
-// a moving surface shown cannot be tested, and then only x's ID among the
-// 9 texels makes x visible.
+// `occluders` false: thesis 4.3.3's nearest-texel check alone (x's ID in
+// its texel or one of the 8 around it). The redistribution passes (cross,
+// incremental) keep it: their terms are removed again frame after frame as
+// they were inserted, their hemicubes of an old pose show surfaces the
+// surfaces buffer no longer holds there, and cross's shadows were tuned
+// against it; with the occluder test cross fell behind progressive against
+// the CPU reference in tests/solvers/test_dynamic.c (issue 14 left them).
 bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local, uint hemicube,
-                      uint id, vec3 o, vec3 x, bool dynamic_posed)
+                      uint id, vec3 o, vec3 x, bool occluders)
 {
     uvec2 px;
     int face = hemicube_lookup(local, res, px);
     int layer = int(hemicube) * HEMICUBE_FACES + face;
-    if (!neighbours)
-        return texelFetch(ids, ivec3(px, layer), 0).r == id;
+    if (!neighbours || !occluders) {
+        if (texelFetch(ids, ivec3(px, layer), 0).r == id)
+            return true;
+        if (!neighbours)
+            return false;
+    }
     int last = int(res) - 1;
-    bool found = false, untested = false;
+    bool found = false;
     for (int dy = -1; dy <= 1; dy++) {
         for (int dx = -1; dx <= 1; dx++) {
             ivec2 q = clamp(ivec2(px) + ivec2(dx, dy), ivec2(0), ivec2(last));
             uint shown = texelFetch(ids, ivec3(q, layer), 0).r;
             if (shown == id) {
+                if (!occluders)
+                    return true;
                 found = true;
-            } else if (shown != 0u) {
-                gpu_surface sf = surfaces[shown - 1u];
-                if (!dynamic_posed && sf.dynamic != 0u)
-                    untested = true;
-                else if (shooting_blocks(sf, o, x))
-                    return false;
+            } else if (occluders && shown != 0u && shooting_blocks(surfaces[shown - 1u], o, x)) {
+                return false;
             }
         }
     }
-    return found || !untested;
+    return found || occluders;
 }
 
 // Whether a receiver at offset d = x - centre from a shooter (cs = d . n_s,
