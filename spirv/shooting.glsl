@@ -55,8 +55,9 @@ bool shooting_blocks(gpu_surface sf, vec3 o, vec3 x)
 // incremental) keep it: their terms are removed again frame after frame as
 // they were inserted, their hemicubes of an old pose show surfaces the
 // surfaces buffer no longer holds there, and cross's shadows were tuned
-// against it; with the occluder test cross fell behind progressive against
-// the CPU reference in tests/solvers/test_dynamic.c (issue 14 left them).
+// against it (issue 14 left them as they were: cross falls behind the
+// improved progressive against the CPU reference with either rule, in
+// tests/solvers/test_dynamic.c).
 bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local, uint hemicube,
                       uint id, vec3 o, vec3 x, bool occluders)
 {
