@@ -216,7 +216,12 @@ void main()
     gpu_surface sr = surfaces[se];
     uint ke = e - sr.first_element;
     vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
-    if ((elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u) {
+    // Buried (scene_find_buried), or of M where the hemicubes draw C alone:
+    // the occluder test would find such an element visible (nothing drawn
+    // hides it), and the light it took would be lost when cross resets M
+    // (a 0.999 furnace with a floating box came out 36% low).
+    if ((elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u ||
+        (pc.static_only != 0u && sr.dynamic != 0u)) {
         if (pc.mode == RECONSTRUCT_MODE_FF)
             for (uint k = 0u; k < count; k++)
                 ff[k * pc.element_count + e] = 0.0;

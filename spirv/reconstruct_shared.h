@@ -36,7 +36,7 @@ struct reconstruct_push {
     float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
     uint max_shooters;     /* rows of ff[] */
     uint conserve_fixed;   /* 1: fixed patches are scaled too (a first solve) */
-    float pad3;
+    uint static_only;      /* 1: the hemicubes draw C alone; M's elements receive nothing */
 };
 
 #endif

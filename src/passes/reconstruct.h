@@ -61,6 +61,9 @@ typedef struct reconstruct_params {
      * methods' first solve, before any redistribution removes what they
      * shot. Afterwards removal and insertion must use the same factors. */
     bool conserve_fixed;
+    /* The ID hemicubes draw the static surfaces alone (cross's progressive
+     * iterations): elements of dynamic surfaces receive nothing. */
+    bool static_only;
     uint32_t max_shooters;  /* the shooter table's size */
 } reconstruct_params;
 

@@ -158,6 +158,7 @@ xrad_status progressive_create(xrad_solver *s, bool static_only, progressive **o
         .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
         .conserve = conserve,
         .max_shooters = p->max_shooters,
+        .static_only = static_only,
     };
     s->stats.hemicube_path = hemicube_path_name(p->hemicube);
     *out = p;
