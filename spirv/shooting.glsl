@@ -35,14 +35,15 @@ bool shooting_blocks(gpu_surface sf, vec3 o, vec3 x)
 // 1) is visible in the ID hemicube `hemicube` of `ids` drawn from o, x lying
 // in the local direction `local` of the hemicube's frame.
 //
-// The texel x projects to shows the receiver's surface: visible. Else,
-// without `neighbours`, not visible. With them, the 3 x 3 texels around
-// are the candidate occluders: x is visible unless the segment o -> x
+// Without `neighbours`, visible where the texel x projects to shows the
+// receiver's surface. With them, x's ID must show in one of the 3 x 3
+// texels around (thesis 4.3.3: no holes from sampling), and those texels
+// are also the candidate occluders: x is hidden where the segment o -> x
 // crosses a surface one of them shows (shooting_blocks, against the
-// surface's own quad). The texel alone cannot say: a surface thinner than
-// a texel (seen edge-on from a light almost in its plane) is hidden by
-// what lies beside or behind it, while the nearest-texel check of thesis
-// 4.3.3 (x's ID in one of the 8 texels) let light through every
+// surface's own quad). Trusting the candidates alone (visible unless one
+// blocks) let light through walls where the wall crossed was not among
+// them (a 1e6 W/m^2 room lit its dim neighbour). The nearest-texel check
+// alone (x's ID in one of the 8 texels) let light through every
 // occluder's silhouette, a texel wide: the contact shadows at the foot of
 // the Cornell box's blocks were lost (floor elements there 1.7-4.3 times
 // the CPU reference's) and floor under the blocks was lit. The Barsi and
@@ -85,7 +86,7 @@ bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local
             }
         }
     }
-    return found || occluders;
+    return found;
 }
 
 // Whether a receiver at offset d = x - centre from a shooter (cs = d . n_s,

@@ -80,9 +80,14 @@ xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
         for (uint32_t c = 0; c < ns; c++) {
             if (c == r || !(v3_dot(normals[c], nr) < -0.999))
                 continue;
+            /* In front of the receiver's plane by at most tol, behind it by
+             * no more than rounding: face to face. A cover behind it (the
+             * two faces of a slab 1e-4 m thin, back to back) is not one. */
             bool coplanar = true;
-            for (int k = 0; k < 4 && coplanar; k++)
-                coplanar = fabs(v3_dot(v3_sub(corners[4 * c + k], pr), nr)) <= tol;
+            for (int k = 0; k < 4 && coplanar; k++) {
+                double d = v3_dot(v3_sub(corners[4 * c + k], pr), nr);
+                coplanar = d <= tol && d >= -1e-3 * tol;
+            }
             if (!coplanar)
                 continue;
             for (uint32_t k = 0; k < sr->nu * sr->nv; k++) {
