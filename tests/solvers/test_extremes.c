@@ -538,8 +538,13 @@ static void against_reference(xrad_context *ctx, xrad_scene *scene, const char *
         if (out && m == 0)
             *out = e;
         CHECK(p < power, "%s: power %.4f off the CPU reference", what, p);
+        /* Against the plain room's error with a margin of 0.04: issue 14
+         * made the plain room six times nearer the reference (0.038 ->
+         * 0.006) and the 1e-4 m slab a little (0.039 -> 0.035), whose
+         * side faces, a tenth of a millimetre tall, are far below any
+         * element; the check is that thinness breaks nothing. */
         if (baseline > 0)
-            CHECK(e >= 0 && e < 2 * baseline + 0.01,
+            CHECK(e >= 0 && e < 2 * baseline + 0.04,
                   "%s: element error %.4f, a plain room's is %.4f", what, e, baseline);
         xrad_solver_destroy(&s);
     }
