@@ -307,10 +307,14 @@ static void sign_test(xrad_context *ctx, xrad_method m)
                   xrad_method_name(m), got, want);
         } else {
             /* Incremental has no cross projection: its shadow comes from
-             * the ID hemicubes of C's shooters, like a fresh progressive
-             * solve's (whose nearest-texel check shrinks shadows). */
-            CHECK(fabs(got - fresh) <= 0.05 * fresh, "%s: darkening %.5f, fresh progressive "
-                  "%.5f", xrad_method_name(m), got, fresh);
+             * the ID hemicubes of C's shooters with the nearest-texel
+             * check, which shrinks shadows by a texel (0.836 of the
+             * reference's darkening). A fresh progressive solve no longer
+             * shrinks them (its occluder test, issue 14: 0.927, was within
+             * 5% of incremental's before), so incremental is held to the
+             * reference: the right sign, within 20%. */
+            CHECK(fabs(got - want) <= 0.2 * want, "%s: darkening %.5f, reference %.5f (fresh "
+                  "progressive %.5f)", xrad_method_name(m), got, want, fresh);
         }
     }
     xrad_solver_destroy(&s);
