@@ -65,12 +65,8 @@ bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local
     uvec2 px;
     int face = hemicube_lookup(local, res, px);
     int layer = int(hemicube) * HEMICUBE_FACES + face;
-    if (!neighbours || !occluders) {
-        if (texelFetch(ids, ivec3(px, layer), 0).r == id)
-            return true;
-        if (!neighbours)
-            return false;
-    }
+    if (!neighbours)
+        return texelFetch(ids, ivec3(px, layer), 0).r == id;
     int last = int(res) - 1;
     bool found = false;
     for (int dy = -1; dy <= 1; dy++) {

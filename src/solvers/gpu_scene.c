@@ -120,20 +120,18 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
 static xrad_status mark_buried(gpu_scene *gs, double time, double diameter, geometry *g,
                                xrad_error *err)
 {
+    uint32_t count;
     xrad_status s = scene_find_buried(gs->scene, time, GPU_SCENE_CONTACT * diameter, gs->buried,
-                                      &gs->buried_count, err);
+                                      &count, err);
     if (s)
         return s;
     for (uint32_t e = 0; e < gs->element_count; e++) {
-        if (gs->enclosed[e] && gs->buried[e] != 1) {
-            gs->buried_count += !gs->buried[e];
+        if (gs->enclosed[e])
             gs->buried[e] = 1;
-        }
-    }
-    for (uint32_t e = 0; e < gs->element_count; e++)
         g->elements[e].flags = gs->buried[e] == 1   ? GPU_ELEMENT_BURIED
                                : gs->buried[e] == 2 ? GPU_ELEMENT_BURIED_M
                                                     : 0u;
+    }
     return XRAD_OK;
 }
 

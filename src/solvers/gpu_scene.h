@@ -59,7 +59,6 @@ typedef struct gpu_scene {
                                   patch_first */
     uint8_t *buried;           /* element_count: scene_find_buried at `time` (1: under a
                                   static surface, 2: under a moving one; gpu_element.flags) */
-    uint32_t buried_count;
     uint8_t *enclosed;         /* element_count: scene_find_enclosed, found once (static) */
 } gpu_scene;
 
