@@ -169,13 +169,16 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
         return 0.0;
     vec3 t = sh.tangent.xyz;
     vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
+    // Shots a redistribution removes again see as its pass does
+    // (reconstruct_params.redistributed).
+    bool exact = pc.redistributed == 0u;
     if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
-                          se + 1u, sh.pos_area.xyz, x, true))
+                          se + 1u, sh.pos_area.xyz, x, exact))
         return 0.0;
     if (!near)
         return shooting_disk(d, cs, ce, area);
-    return area > dot(d, d) ? near_cells(x, ne, surfaces[sh.surface], sh)
-                            : shooting_quad(x, ne, surfaces[sh.surface], sh);
+    return exact && area > dot(d, d) ? near_cells(x, ne, surfaces[sh.surface], sh)
+                                     : shooting_quad(x, ne, surfaces[sh.surface], sh);
 }
 
 void main()
@@ -219,8 +222,17 @@ void main()
     // Buried (scene_find_buried), or of M where the hemicubes draw C alone:
     // the occluder test would find such an element visible (nothing drawn
     // hides it), and the light it took would be lost when cross resets M
-    // (a 0.999 furnace with a floating box came out 36% low).
-    if ((elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u ||
+    // (a 0.999 furnace with a floating box came out 36% low). Where the
+    // hemicubes draw C alone, the solution is C's whatever the pose, so an
+    // element of C under M (BURIED_M) receives as any other: cross's
+    // covered() takes that light away per pose and gives it back when M
+    // leaves, which it cannot do for shots it never saw. Shots that a
+    // redistribution removes again leave contact to the hemicubes, as its
+    // pass does (incremental_reconstruct.comp says why).
+    uint buried = pc.redistributed != 0u ? 0u
+                : pc.static_only != 0u  ? GPU_ELEMENT_BURIED
+                                        : GPU_ELEMENT_BURIED_ANY;
+    if ((elements[e].flags & buried) != 0u ||
         (pc.static_only != 0u && sr.dynamic != 0u)) {
         if (pc.mode == RECONSTRUCT_MODE_FF)
             for (uint k = 0u; k < count; k++)

@@ -37,6 +37,7 @@ struct reconstruct_push {
     uint max_shooters;     /* rows of ff[] */
     uint conserve_fixed;   /* 1: fixed patches are scaled too (a first solve) */
     uint static_only;      /* 1: the hemicubes draw C alone; M's elements receive nothing */
+    uint redistributed;    /* 1: as incremental_reconstruct.comp sees (removed again) */
 };
 
 #endif

@@ -53,7 +53,8 @@ struct select_push {
     uint seed;          /* hemicube rotations (thesis 4.2) */
     uint reconstruct_group; /* workgroup size of the reconstruct dispatch */
     float threshold;    /* converged when power <= threshold x max_power */
-    float pad0, pad1, pad2;
+    uint linear_rule;   /* 1: patches follow the power share, not its square root */
+    float pad1, pad2;
 };
 
 #endif

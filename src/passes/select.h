@@ -54,6 +54,9 @@ typedef struct select_params {
     uint32_t reconstruct_group;      /* workgroup size of the indirect dispatch */
     uint32_t seed;                   /* hemicube rotations */
     double threshold;                /* in [0, 1) */
+    /* Patches follow the power share itself (thesis 4.3.3), not its square
+     * root: cross's progressive iterations (spirv/select.comp says why). */
+    bool linear_rule;
 } select_params;
 
 /* A pass for scenes of `surface_count` (>= 1) surfaces. */

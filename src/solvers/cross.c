@@ -277,7 +277,7 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
     s->impl = c;
     xrad_status st;
     if ((st = dynamic_patches_build(s->scene, s->desc.max_patches, &c->dp, err)) ||
-        (st = progressive_create(s, true, &c->prog, err)))
+        (st = progressive_create(s, PROGRESSIVE_STATIC_ONLY, &c->prog, err)))
         goto fail;
     c->P = c->dp.count;
     /* The lights matter where something moves in front of them. */

@@ -247,7 +247,7 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
     if (!st && inc->dp.count)
         st = dynamic_patches_fix(s->ctx, &s->gs, &inc->dp, err);
     if (!st)
-        st = progressive_create(s, false, &inc->engine, err);
+        st = progressive_create(s, PROGRESSIVE_REDISTRIBUTED, &inc->engine, err);
     if (!st && inc->dp.count)
         st = create_state(s, inc, err);
     if (st) {

@@ -88,9 +88,10 @@ void progressive_destroy(xrad_solver *s, progressive **engine)
     *engine = NULL;
 }
 
-xrad_status progressive_create(xrad_solver *s, bool static_only, progressive **out,
+xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out,
                                xrad_error *err)
 {
+    bool static_only = (flags & PROGRESSIVE_STATIC_ONLY) != 0;
     *out = NULL;
     progressive *p = calloc(1, sizeof(*p));
     if (!p)
@@ -150,6 +151,7 @@ xrad_status progressive_create(xrad_solver *s, bool static_only, progressive **o
         .reconstruct_group = reconstruct_group_size(),
         .seed = s->desc.seed,
         .threshold = s->desc.threshold,
+        .linear_rule = static_only,
     };
     p->reconstruct_params = (reconstruct_params){
         .element_count = gs->element_count,
@@ -159,6 +161,7 @@ xrad_status progressive_create(xrad_solver *s, bool static_only, progressive **o
         .conserve = conserve,
         .max_shooters = p->max_shooters,
         .static_only = static_only,
+        .redistributed = (flags & PROGRESSIVE_REDISTRIBUTED) != 0,
     };
     s->stats.hemicube_path = hemicube_path_name(p->hemicube);
     *out = p;
@@ -290,7 +293,7 @@ static void destroy(xrad_solver *s)
 static xrad_status create(xrad_solver *s, xrad_error *err)
 {
     progressive *p = NULL;
-    xrad_status st = progressive_create(s, false, &p, err);
+    xrad_status st = progressive_create(s, 0, &p, err);
     s->impl = p;
     return st;
 }

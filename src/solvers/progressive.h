@@ -17,13 +17,24 @@ struct xrad_solver;
 
 typedef struct progressive progressive;
 
+/* What the engine's shots are for (progressive_create's flags). */
+enum {
+    /* The shots' hemicubes draw the static set C alone and a restart
+     * leaves the dynamic set M nothing unshot, so that shots neither reach
+     * M nor come from it, nor are blocked by it (the cross method, which
+     * adds what M does to C itself). */
+    PROGRESSIVE_STATIC_ONLY = 1u << 0,
+    /* A redistribution removes the shots again frame after frame
+     * (incremental radiosity): they see as its pass sees (thesis 4.3.3's
+     * nearest-texel check, the patch's mean radiosity near it, contact with
+     * M left to the hemicubes; reconstruct_params.redistributed). */
+    PROGRESSIVE_REDISTRIBUTED = 1u << 1,
+};
+
 /* Passes and buffers for the solver's scene and settings (hemicube_res,
  * batch, max_patches, subdivide_ratio, threshold, seed). May grow the
- * solver's timer. static_only: the shots' hemicubes draw the static set C
- * alone and a restart leaves the dynamic set M nothing unshot, so that
- * shots neither reach M nor come from it, nor are blocked by it (the cross
- * method, which adds what M does to C itself). */
-xrad_status progressive_create(struct xrad_solver *s, bool static_only, progressive **out,
+ * solver's timer. flags: PROGRESSIVE_*. */
+xrad_status progressive_create(struct xrad_solver *s, uint32_t flags, progressive **out,
                                xrad_error *err);
 /* Accepts NULL and *p == NULL; sets *p to NULL. The GPU must be done with it. */
 void progressive_destroy(struct xrad_solver *s, progressive **p);

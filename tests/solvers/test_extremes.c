@@ -683,11 +683,15 @@ static void test_many_frames(xrad_context *ctx, xrad_method method)
     xrad_status st = xrad_solver_create(ctx, scene, &d, &s, &err);
     if (!st)
         st = xrad_solver_solve(s, &err);
-    /* The box slides to and fro: 10,000 frames of 1/30 s. */
-    for (int f = 1; !st && f <= 10000; f++) {
+    /* The box slides to and fro: 10,000 frames of 1/30 s (XRAD_LONG_FRAMES
+     * and XRAD_LONG_EVERY, the frames between checks, to look closer). */
+    int frames = getenv("XRAD_LONG_FRAMES") ? atoi(getenv("XRAD_LONG_FRAMES")) : 10000;
+    int every = getenv("XRAD_LONG_EVERY") ? atoi(getenv("XRAD_LONG_EVERY")) : 1000;
+    every = every > 0 ? every : 1000;
+    for (int f = 1; !st && f <= frames; f++) {
         double phase = fmod(f / 30.0, 2.0);
         st = xrad_solver_advance(s, phase < 1 ? phase : 2 - phase, &err);
-        if (!st && f % 1000 == 0) {
+        if (!st && f % every == 0) {
             char what[64];
             snprintf(what, sizeof(what), "10,000 frames of %s, frame %d",
                      xrad_method_name(method), f);
