@@ -66,6 +66,21 @@ layout(std430, binding = RECONSTRUCT_BINDING_SHOT) readonly buffer Shot { vec4 s
 // Rec. 709 luminance weights.
 const vec3 LUMA = vec3(0.2126, 0.7152, 0.0722);
 
+// The GPU_ELEMENT_* flags of receivers no light reaches in these shots.
+// Where the hemicubes draw C alone, the solution is C's whatever the pose,
+// so an element of C under M (BURIED_M) receives as any other: cross's
+// covered() takes that light away per pose and gives it back when M
+// leaves, which it cannot do for shots it never saw. Shots that a
+// redistribution removes again leave contact to the hemicubes, as its pass
+// does (incremental_reconstruct.comp says why). progressive.c gives select
+// the same mask.
+uint buried_mask()
+{
+    return pc.redistributed != 0u ? 0u
+         : pc.static_only != 0u  ? GPU_ELEMENT_BURIED
+                                 : GPU_ELEMENT_BURIED_ANY;
+}
+
 // Blocks per side of a patch in its very near field (near_cells).
 const uint NEAR_BLOCKS = 8u;
 
@@ -78,14 +93,15 @@ const uint NEAR_BLOCKS = 8u;
 // mean unshot radiosity of its open elements as select left them (`shot`);
 // returned as the factor that gives that luminance with the patch's mean
 // radiosity, so that conservation and the transfer treat it as any other
-// form factor (the colour is the patch's). Visibility is the patch
-// centre's, as for the rest of the patch.
-float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh)
+// form factor (the colour is the patch's). Visibility is each block's:
+// hidden where the segment from its centre to x crosses one of the
+// candidate occluders cand[0, ncand) (shooting_candidates).
+float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], uint ncand)
 {
     float mean = dot(sh.radiosity.rgb, LUMA);
     uint bi = (sh.i1 - sh.i0 + NEAR_BLOCKS) / NEAR_BLOCKS;
     uint bj = (sh.j1 - sh.j0 + NEAR_BLOCKS) / NEAR_BLOCKS;
-    float sum = 0.0, magnitude = 0.0;
+    float sum = 0.0, magnitude = 0.0, seen = 0.0;
     for (uint j0 = sh.j0; j0 <= sh.j1; j0 += bj) {
         uint j1 = min(j0 + bj - 1u, sh.j1);
         for (uint i0 = sh.i0; i0 <= sh.i1; i0 += bi) {
@@ -95,24 +111,33 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh)
                 for (uint i = i0; i <= i1; i++) {
                     uint k = j * sf.nu + i;
                     gpu_element el = elements[sf.first_element + k];
-                    if ((el.flags & GPU_ELEMENT_BURIED) != 0u && sf.patches_s == 0u)
+                    if ((el.flags & buried_mask()) != 0u && sf.patches_s == 0u)
                         continue;
                     lum += el.pos_area.w * dot(shot[k].rgb, LUMA);
                     area += el.pos_area.w;
                 }
             }
-            if (area > 0.0) {
+            // A block hidden from x by a candidate occluder gives nothing.
+            bool hidden = false;
+            if (area > 0.0 && ncand > 0u) {
+                vec2 rs = shooting_param_range(i0, i1, sf.nu);
+                vec2 rt = shooting_param_range(j0, j1, sf.nv);
+                vec3 c = shooting_bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y));
+                for (uint m = 0u; m < ncand && !hidden; m++)
+                    hidden = shooting_blocks(surfaces[cand[m]], c, x);
+            }
+            if (area > 0.0 && !hidden) {
                 float f = shooting_cells(x, ne, sf, i0, i1, j0, j1);
+                seen += f;
                 sum += f * lum / area;
                 magnitude += f * abs(lum) / area;
             }
         }
     }
     // A patch whose light cancels (negative beside positive, the dynamic
-    // methods) has no mean to scale: the whole quad then.
-    if (!(abs(mean) > 1e-3 * magnitude / max(shooting_quad(x, ne, sf, sh), 1e-30)) ||
-        mean == 0.0)
-        return shooting_quad(x, ne, sf, sh);
+    // methods) has no mean to scale: the blocks x sees, by area alone.
+    if (!(abs(mean) > 1e-3 * magnitude / max(seen, 1e-30)) || mean == 0.0)
+        return seen;
     return sum / mean;
 }
 
@@ -172,13 +197,25 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // Shots a redistribution removes again see as its pass does
     // (reconstruct_params.redistributed).
     bool exact = pc.redistributed == 0u;
-    if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
-                          se + 1u, sh.pos_area.xyz, x, exact))
+    bool visible = shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local,
+                                    sh.hemicube, se + 1u, sh.pos_area.xyz, x, exact);
+    // Nearer than its size, a patch's visibility is its blocks' (near_cells)
+    // rather than its centre's: a floor patch whose centre lies behind or
+    // under a box still lights the box's side from its part in front (the
+    // sides' bottom rows were 0.76-0.80 of the CPU reference's). The
+    // surfaces the texels towards x show are the candidate occluders of
+    // every block.
+    if (exact && near && area > dot(d, d)) {
+        uint cand[9];
+        uint ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u,
+                                         cand);
+        return near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
+    }
+    if (!visible)
         return 0.0;
     if (!near)
         return shooting_disk(d, cs, ce, area);
-    return exact && area > dot(d, d) ? near_cells(x, ne, surfaces[sh.surface], sh)
-                                     : shooting_quad(x, ne, surfaces[sh.surface], sh);
+    return shooting_quad(x, ne, surfaces[sh.surface], sh);
 }
 
 void main()
@@ -222,17 +259,9 @@ void main()
     // Buried (scene_find_buried), or of M where the hemicubes draw C alone:
     // the occluder test would find such an element visible (nothing drawn
     // hides it), and the light it took would be lost when cross resets M
-    // (a 0.999 furnace with a floating box came out 36% low). Where the
-    // hemicubes draw C alone, the solution is C's whatever the pose, so an
-    // element of C under M (BURIED_M) receives as any other: cross's
-    // covered() takes that light away per pose and gives it back when M
-    // leaves, which it cannot do for shots it never saw. Shots that a
-    // redistribution removes again leave contact to the hemicubes, as its
-    // pass does (incremental_reconstruct.comp says why).
-    uint buried = pc.redistributed != 0u ? 0u
-                : pc.static_only != 0u  ? GPU_ELEMENT_BURIED
-                                        : GPU_ELEMENT_BURIED_ANY;
-    if ((elements[e].flags & buried) != 0u ||
+    // (a 0.999 furnace with a floating box came out 36% low); which are
+    // buried, buried_mask() says.
+    if ((elements[e].flags & buried_mask()) != 0u ||
         (pc.static_only != 0u && sr.dynamic != 0u)) {
         if (pc.mode == RECONSTRUCT_MODE_FF)
             for (uint k = 0u; k < count; k++)

@@ -182,7 +182,7 @@ void main()
         for (uint j = j0; j <= j1; j++) {
             for (uint i = i0; i <= i1; i++) {
                 uint e = sf.first_element + j * sf.nu + i;
-                if (!fixed_patch && (elements[e].flags & GPU_ELEMENT_BURIED) != 0u)
+                if (!fixed_patch && (elements[e].flags & pc.buried_mask) != 0u)
                     continue;
                 float a = elements[e].pos_area.w;
                 sum += Bu[e].rgb * a;
@@ -204,7 +204,35 @@ void main()
                                       : pc.seed * 0x9e3779b9u + s_first_patch + k;
         float angle = float(lowbias32(key)) * (TWO_PI / 4294967296.0);
         gpu_shooter sh;
-        sh.pos_area = vec4(bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y)), area);
+        vec3 centre = bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y));
+        // A patch's visibility is its centre's: where the centre lies under
+        // a block (a floor patch round a box's foot), its hemicube sees the
+        // block's underside and the receivers all round take none of the
+        // patch's light. It then shoots from the open element nearest the
+        // centre.
+        if (area > 0.0 && !fixed_patch) {
+            uint ic = min(uint(0.5 * (rs.x + rs.y) * float(sf.nu - 1u) + 0.5), i1);
+            uint jc = min(uint(0.5 * (rt.x + rt.y) * float(sf.nv - 1u) + 0.5), j1);
+            ic = max(ic, i0);
+            jc = max(jc, j0);
+            if ((elements[sf.first_element + jc * sf.nu + ic].flags & pc.buried_mask) != 0u) {
+                float best = 3.4e38;
+                uvec2 at = uvec2(ic, jc);
+                for (uint j = j0; j <= j1; j++) {
+                    for (uint i = i0; i <= i1; i++) {
+                        gpu_element el = elements[sf.first_element + j * sf.nu + i];
+                        vec3 off = el.pos_area.xyz - centre;
+                        if ((el.flags & pc.buried_mask) == 0u && dot(off, off) < best) {
+                            best = dot(off, off);
+                            at = uvec2(i, j);
+                        }
+                    }
+                }
+                vec2 cs = param_range(at.x, at.x, sf.nu), ct = param_range(at.y, at.y, sf.nv);
+                centre = bilinear(sf, 0.5 * (cs.x + cs.y), 0.5 * (ct.x + ct.y));
+            }
+        }
+        sh.pos_area = vec4(centre, area);
         sh.normal = vec4(normal, 0.0);
         sh.tangent = vec4(cos(angle) * u0 + sin(angle) * v0, 0.0);
         sh.radiosity = vec4(area > 0.0 ? sum / area : vec3(0.0), 0.0);
@@ -227,7 +255,7 @@ void main()
     bool fixed_surface = sf.patches_s != 0u;
     for (uint k = t; k < n; k += SELECT_GROUP) {
         uint e = sf.first_element + k;
-        bool buried = !fixed_surface && (elements[e].flags & GPU_ELEMENT_BURIED) != 0u;
+        bool buried = !fixed_surface && (elements[e].flags & pc.buried_mask) != 0u;
         shot[k] = buried ? vec4(0.0) : Bu[e];
         Bu[e] = vec4(0.0);
     }

@@ -54,7 +54,8 @@ struct select_push {
     uint reconstruct_group; /* workgroup size of the reconstruct dispatch */
     float threshold;    /* converged when power <= threshold x max_power */
     uint linear_rule;   /* 1: patches follow the power share, not its square root */
-    float pad1, pad2;
+    uint buried_mask;   /* GPU_ELEMENT_* flags of elements a patch does not shoot from */
+    float pad2;
 };
 
 #endif

@@ -85,6 +85,32 @@ bool shooting_visible(utexture2DArray ids, uint res, bool neighbours, vec3 local
     return found;
 }
 
+// The surfaces (ID - 1) other than the receiver's (`id`) that the 3 x 3
+// texels around the local direction `local` show in hemicube `hemicube`:
+// the candidate occluders between the shooter and the receiver, at most 9
+// distinct ones in cand[0, count).
+uint shooting_candidates(utexture2DArray ids, uint res, vec3 local, uint hemicube, uint id,
+                         out uint cand[9])
+{
+    uvec2 px;
+    int face = hemicube_lookup(local, res, px);
+    int layer = int(hemicube) * HEMICUBE_FACES + face;
+    int last = int(res) - 1;
+    uint count = 0u;
+    for (int dy = -1; dy <= 1; dy++) {
+        for (int dx = -1; dx <= 1; dx++) {
+            ivec2 q = clamp(ivec2(px) + ivec2(dx, dy), ivec2(0), ivec2(last));
+            uint shown = texelFetch(ids, ivec3(q, layer), 0).r;
+            bool seen = shown == 0u || shown == id;
+            for (uint k = 0u; k < count && !seen; k++)
+                seen = cand[k] == shown - 1u;
+            if (!seen)
+                cand[count++] = shown - 1u;
+        }
+    }
+    return count;
+}
+
 // Whether a receiver at offset d = x - centre from a shooter (cs = d . n_s,
 // ce = -d . n_e) can take light from it. It must lie in front of the
 // shooter's plane by more than 1e-4 of its distance: a receiver in that

@@ -114,6 +114,7 @@ void select_record(select_pass *p, VkCommandBuffer cmd, const select_params *par
         .reconstruct_group = params->reconstruct_group ? params->reconstruct_group : 1,
         .threshold = (float)params->threshold,
         .linear_rule = params->linear_rule ? 1u : 0u,
+        .buried_mask = params->buried_mask,
     };
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,
                             NULL);

@@ -57,6 +57,9 @@ typedef struct select_params {
     /* Patches follow the power share itself (thesis 4.3.3), not its square
      * root: cross's progressive iterations (spirv/select.comp says why). */
     bool linear_rule;
+    /* GPU_ELEMENT_* flags of the elements no light reaches in these shots:
+     * a patch shoots from the others (spirv/select.comp). */
+    uint32_t buried_mask;
 } select_params;
 
 /* A pass for scenes of `surface_count` (>= 1) surfaces. */

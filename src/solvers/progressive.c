@@ -152,6 +152,10 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
         .seed = s->desc.seed,
         .threshold = s->desc.threshold,
         .linear_rule = static_only,
+        /* as buried_mask() in spirv/reconstruct.comp */
+        .buried_mask = (flags & PROGRESSIVE_REDISTRIBUTED) ? 0u
+                       : static_only                      ? GPU_ELEMENT_BURIED
+                                                          : GPU_ELEMENT_BURIED_ANY,
     };
     p->reconstruct_params = (reconstruct_params){
         .element_count = gs->element_count,

@@ -35,17 +35,20 @@
 #define IMAGE_RATIO_TOL 0.01
 /* What the checks hold every row to while the GPU methods do not meet the
  * thresholds above (issue 14 open: the sides of boxes standing on a floor
- * are up to 30% dark, see README "Accuracy"). For progressive the p95
+ * are up to 14% dark, see README "Accuracy"). For progressive the p95
  * bound fails every room of the code before the issue's fixes (p95
- * 0.18-0.79, surface_error 0.09-0.49 then; 0.03-0.11 now), for gather
+ * 0.18-0.79, surface_error 0.09-0.49 then; 0.02-0.05 and 0.02-0.14 now),
+ * and both bounds fail room 4 of the code before near patches were seen
+ * block by block (p95 0.110, surface_error 0.300), for gather
  * rooms 2-4 (0.16-0.43 then, the reference's edge samples; 0.01-0.14
  * now), so a return of what it fixed fails the test. Incremental and
  * cross keep their redistribution's
  * own terms, which the fixes did not reach (up to p95 0.17, image mean
  * 0.93 after three frames): their bounds only catch a breakdown. */
 #define GUARD_REDISTRIBUTES(m) ((m) == XRAD_METHOD_INCREMENTAL || (m) == XRAD_METHOD_CROSS)
-#define GUARD_SURFACE_ERROR_MAX(m) (GUARD_REDISTRIBUTES(m) ? 0.5 : 0.35)
-#define GUARD_P95_MAX(m) (GUARD_REDISTRIBUTES(m) ? 0.35 : (m) == XRAD_METHOD_GATHER ? 0.2 : 0.12)
+#define GUARD_SURFACE_ERROR_MAX(m)                                                                \
+    (GUARD_REDISTRIBUTES(m) ? 0.5 : (m) == XRAD_METHOD_GATHER ? 0.35 : 0.2)
+#define GUARD_P95_MAX(m) (GUARD_REDISTRIBUTES(m) ? 0.35 : (m) == XRAD_METHOD_GATHER ? 0.2 : 0.08)
 #define GUARD_IMAGE_RATIO_TOL(m) (GUARD_REDISTRIBUTES(m) ? 0.1 : 0.03)
 
 typedef struct row {
