@@ -55,7 +55,8 @@ typedef struct select_params {
     uint32_t seed;                   /* hemicube rotations */
     double threshold;                /* in [0, 1) */
     /* Patches follow the power share itself (thesis 4.3.3), not its square
-     * root: cross's progressive iterations (spirv/select.comp says why). */
+     * root: cross's progressive iterations after its restart
+     * (spirv/select.comp says why). */
     bool linear_rule;
     /* GPU_ELEMENT_* flags of the elements no light reaches in these shots:
      * a patch shoots from the others (spirv/select.comp). */

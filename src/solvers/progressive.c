@@ -151,7 +151,6 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
         .reconstruct_group = reconstruct_group_size(),
         .seed = s->desc.seed,
         .threshold = s->desc.threshold,
-        .linear_rule = static_only,
         /* as buried_mask() in spirv/reconstruct.comp */
         .buried_mask = (flags & PROGRESSIVE_REDISTRIBUTED) ? 0u
                        : static_only                      ? GPU_ELEMENT_BURIED
@@ -234,6 +233,12 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
         status->converged = 0;
     }
     p->reconstruct_params.conserve_fixed = restart;
+    /* Cross's iterations after a restart shoot the signed changes a pose
+     * brings, with the linear patch rule (select_params.linear_rule); the
+     * restart itself is C's plain solve, with the square root's finer
+     * patches (cornell-box's ceiling 1.045 of the CPU reference with the
+     * linear rule). */
+    p->select_params.linear_rule = p->static_only && !restart;
     uint32_t limit = max_shots ? max_shots : s->desc.max_iterations;
     uint32_t first = status->selections, first_patches = status->patches;
     uint32_t selected = 0;
