@@ -124,8 +124,10 @@ static void rig_destroy(xrad_context *ctx, rig *r)
     xrad_scene_destroy(&r->scene);
 }
 
-/* One shot in one submission; the results are in the mapped buffers. */
-static int shoot(xrad_context *ctx, rig *r, uint32_t max_patches, double threshold)
+/* One shot in one submission, elements flagged `buried_mask` left out of
+ * the patches; the results are in the mapped buffers. */
+static int shoot_masked(xrad_context *ctx, rig *r, uint32_t max_patches, double threshold,
+                        uint32_t buried_mask)
 {
     xrad_error err = {0};
     gpu_cmd c;
@@ -142,6 +144,7 @@ static int shoot(xrad_context *ctx, rig *r, uint32_t max_patches, double thresho
         .reconstruct_group = GROUP,
         .seed = 7,
         .threshold = threshold,
+        .buried_mask = buried_mask,
     };
     select_record(r->pass, c.cmd, &p);
     VkMemoryBarrier host = {
@@ -155,6 +158,11 @@ static int shoot(xrad_context *ctx, rig *r, uint32_t max_patches, double thresho
     CHECK(st == XRAD_OK, "run: %s", err.message);
     gpu_cmd_destroy(ctx, &c);
     return st == XRAD_OK;
+}
+
+static int shoot(xrad_context *ctx, rig *r, uint32_t max_patches, double threshold)
+{
+    return shoot_masked(ctx, r, max_patches, threshold, 0);
 }
 
 static double surface_power(const rig *r, const vec4 *bu, uint32_t s)
@@ -450,6 +458,70 @@ static void test_rule(xrad_context *ctx)
     rig_destroy(ctx, &r);
 }
 
+/* A floor whose middle lies under a block (its elements flagged buried):
+ * one patch over the whole floor shoots from the open elements, and its
+ * centre, under the block, moves to the open element nearest it (by
+ * brute force here), so that its hemicube does not look out from under
+ * the block. Without the mask the patch is the whole floor about its
+ * centre. */
+static void test_buried_centre(xrad_context *ctx)
+{
+    static const char *json =
+        "{\"unit\":\"m\",\"materials\":[{\"name\":\"m\",\"albedo\":[0.5,0.5,0.5]}],"
+        "\"objects\":[{\"name\":\"o\",\"surfaces\":["
+        "{\"name\":\"floor\",\"material\":\"m\",\"elements\":[10,11],"
+        " \"quad\":{\"origin\":[0,0,0],\"u\":[1,0,0],\"v\":[0,1,0]}}"
+        "]}],\"camera\":{\"position\":[0,0,5],\"look_at\":[0,0,0],\"up\":[0,1,0],"
+        "\"fov_degrees\":60}}";
+    for (int masked = 0; masked < 2; masked++) {
+        rig r;
+        if (!rig_create(ctx, json, 4, &r)) {
+            rig_destroy(ctx, &r);
+            return;
+        }
+        const xrad_scene *sc = r.scene;
+        struct gpu_element *ge = r.elements.alloc.mapped;
+        set_uniform(&r, 0, 1.0f);
+        /* Elements (3..5, 2..7) under the block, the centre (0.5, 0.5) among
+         * them; the open element nearest it is (6, 5), at (2/3, 1/2). */
+        double open_area = 0, best = 1e30;
+        vec3 want = v3(0.5, 0.5, 0);
+        for (uint32_t e = 0; e < sc->element_count; e++) {
+            const element *el = &sc->elements[e];
+            bool under = el->i >= 3 && el->i <= 5 && el->j >= 2 && el->j <= 7;
+            ge[e].flags = under ? GPU_ELEMENT_BURIED : 0u;
+            if (under)
+                continue;
+            open_area += el->area;
+            /* The nearest open element's cell centroid (samples at
+             * i / (n - 1), cells half a step either side, cut at 0 and 1). */
+            vec3 p = v3(ge[e].pos_area.x, ge[e].pos_area.y, 0);
+            double d = v3_len(v3_sub(p, v3(0.5, 0.5, 0)));
+            if (d < best) {
+                best = d;
+                double hu = 1.0 / 9, hv = 1.0 / 10;
+                double x0 = fmax(0, (el->i - 0.5) * hu), x1 = fmin(1, (el->i + 0.5) * hu);
+                double y0 = fmax(0, (el->j - 0.5) * hv), y1 = fmin(1, (el->j + 0.5) * hv);
+                want = v3(0.5 * (x0 + x1), 0.5 * (y0 + y1), 0);
+            }
+        }
+        if (!masked)
+            want = v3(0.5, 0.5, 0), open_area = sc->surfaces[0].area;
+        if (shoot_masked(ctx, &r, 1, 1e-4, masked ? GPU_ELEMENT_BURIED : 0u)) {
+            const struct select_status *st = r.status.alloc.mapped;
+            const struct gpu_shooter *sh = r.shooters.alloc.mapped;
+            CHECK(st->shooter_count == 1, "%s: %u shooters", masked ? "masked" : "plain",
+                  st->shooter_count);
+            vec3 got = v3(sh[0].pos_area.x, sh[0].pos_area.y, sh[0].pos_area.z);
+            CHECK(v3_len(v3_sub(got, want)) < 1e-5,
+                  "%s: the patch shoots from (%.4f, %.4f, %.4f), want (%.4f, %.4f, %.4f)",
+                  masked ? "masked" : "plain", got.x, got.y, got.z, want.x, want.y, want.z);
+            CHECK_REL(sh[0].pos_area.w, open_area, 1e-5);
+        }
+        rig_destroy(ctx, &r);
+    }
+}
+
 int main(void)
 {
     xrad_context *ctx = gpu_test_context();
@@ -457,6 +529,7 @@ int main(void)
         return test_finish();
     test_argmax(ctx);
     test_rule(ctx);
+    test_buried_centre(ctx);
     gpu_test_end(&ctx);
     return test_finish();
 }
