@@ -36,6 +36,9 @@ layout(local_size_x = INCR_GROUP) in;
 layout(push_constant) uniform Push { incr_push pc; };
 
 layout(std430, binding = INCR_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+layout(std430, binding = INCR_BINDING_OLD_SURFACES) readonly buffer OldSurfaces { gpu_surface old_surfaces[]; };
+// The old hemicubes show M where old_surfaces has it.
+#define SHOOTING_OCCLUDER(i, old) ((old) ? old_surfaces[i] : surfaces[i])
 #include "shooting.glsl"
 layout(std430, binding = INCR_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
 layout(std430, binding = INCR_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };
@@ -131,20 +134,20 @@ void receive(uint e)
         vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
         vec3 r;
         if (pc.mode == INCR_MODE_NEGATIVE) {
-            if (!shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                  sh.pos_area.xyz, x, false))
+            if (!shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                     sh.pos_area.xyz, x, true, true))
                 continue;
             r = -values[k].shot.rgb;
         } else if (moving) {
-            if (!shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                  sh.pos_area.xyz, x, false))
+            if (!shooting_visible_at(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                     sh.pos_area.xyz, x, true, false))
                 continue;
             r = values[k].total.rgb;
         } else {
-            bool was = shooting_visible(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                        sh.pos_area.xyz, x, false);
-            bool is = shooting_visible(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                       sh.pos_area.xyz, x, false);
+            bool was = shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h,
+                                           se + 1u, sh.pos_area.xyz, x, true, true);
+            bool is = shooting_visible_at(ids_new, pc.hemicube_res, near_texels, local, h,
+                                          se + 1u, sh.pos_area.xyz, x, true, false);
             if (!was && !is)
                 continue;
             r = was && !is   ? -values[k].shot.rgb  // occluded by M

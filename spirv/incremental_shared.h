@@ -41,9 +41,10 @@ struct incr_value {
 #define INCR_BINDING_SHOOTERS 5
 #define INCR_BINDING_VALUES 6
 #define INCR_BINDING_POWER 7
-#define INCR_BINDING_IDS_OLD 8
-#define INCR_BINDING_IDS_NEW 9
-#define INCR_BINDING_COUNT 10
+#define INCR_BINDING_OLD_SURFACES 8 /* the surfaces at the old pose */
+#define INCR_BINDING_IDS_OLD 9       /* images from here on */
+#define INCR_BINDING_IDS_NEW 10
+#define INCR_BINDING_COUNT 11
 
 #define INCR_GROUP 64u
 

@@ -195,10 +195,11 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     vec3 t = sh.tangent.xyz;
     vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
     // Shots a redistribution removes again see as its pass does
-    // (reconstruct_params.redistributed).
+    // (reconstruct_params.redistributed): the occluder test, but the
+    // patch's mean and its centre's visibility in the near field.
     bool exact = pc.redistributed == 0u;
     bool visible = shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local,
-                                    sh.hemicube, se + 1u, sh.pos_area.xyz, x, exact);
+                                    sh.hemicube, se + 1u, sh.pos_area.xyz, x, true);
     // Nearer than its size, a patch's visibility is its blocks' (near_cells)
     // rather than its centre's: a floor patch whose centre lies behind or
     // under a box still lights the box's side from its part in front (the

@@ -28,6 +28,9 @@ typedef struct incremental_reconstruct_bindings {
     const gpu_buffer *shooters;                        /* struct gpu_shooter[] */
     const gpu_buffer *values;                          /* struct incr_value[], same indices */
     const gpu_buffer *power;                           /* float[surface_count] */
+    /* struct gpu_surface[surface_count] at the old pose: the occluders the
+     * old hemicubes show (surfaces holds the new pose during INCREMENT). */
+    const gpu_buffer *old_surfaces;
     /* R32_UINT 2D arrays, layer = hemicube * 5 + face, in
      * SHADER_READ_ONLY_OPTIMAL when the pass runs: the chunk's hemicubes
      * at the old pose and at the new pose. */

@@ -65,10 +65,11 @@ typedef struct reconstruct_params {
      * iterations): elements of dynamic surfaces receive nothing. */
     bool static_only;
     /* A redistribution removes these shots again (incremental.c): the
-     * receivers see the shooter as spirv/incremental_reconstruct.comp does,
-     * or what it removes differs from what was shot and the difference
-     * piles up frame after frame (10,000 frames of a sliding box ran to
-     * -38 times the emitted power). */
+     * receivers see the shooter as spirv/incremental_reconstruct.comp does
+     * (the occluder test from the patch's centre, its mean radiosity, no
+     * contact flags), or what it removes differs from what was shot and
+     * the difference piles up frame after frame (10,000 frames of a
+     * sliding box ran to -38 times the emitted power). */
     bool redistributed;
     uint32_t max_shooters;  /* the shooter table's size */
 } reconstruct_params;

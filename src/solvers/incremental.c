@@ -91,6 +91,7 @@ typedef struct incremental {
     hemicube_pass *old_ids, *new_ids;
     incremental_reconstruct_pass *pass;
     gpu_buffer prev_vertices; /* gpu_scene_vertex[vertex_count]: the old pose */
+    gpu_buffer prev_surfaces; /* struct gpu_surface[surface_count]: the old pose */
     gpu_buffer shooters;      /* struct gpu_shooter[m_count + c_capacity], device */
     gpu_buffer staging;       /* the same, host-written, copied in per step */
     gpu_buffer values;        /* struct incr_value[m_count + c_capacity] */
@@ -117,6 +118,7 @@ static void destroy_state(xrad_solver *s, incremental *inc)
     gpu_buffer_destroy(s->ctx, &inc->staging);
     gpu_buffer_destroy(s->ctx, &inc->shooters);
     gpu_buffer_destroy(s->ctx, &inc->prev_vertices);
+    gpu_buffer_destroy(s->ctx, &inc->prev_surfaces);
     free(inc->fixed);
     inc->fixed = NULL;
     dynamic_patches_free(&inc->dp);
@@ -180,6 +182,11 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT |
                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                                 GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &inc->prev_vertices, err)) ||
+        (st = gpu_buffer_create(ctx,
+                                (VkDeviceSize)(gs->surface_count ? gs->surface_count : 1) *
+                                    sizeof(struct gpu_surface),
+                                storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEM_DEVICE,
+                                GPU_MEM_REDISTRIBUTION, &inc->prev_surfaces, err)) ||
         (st = gpu_buffer_create(ctx, (VkDeviceSize)table * sizeof(struct gpu_shooter),
                                 storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &inc->shooters, err)) ||
@@ -223,7 +230,7 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
                                  &(incremental_reconstruct_bindings){
                                      &gs->surfaces, &gs->elements, &gs->materials, &gs->B,
                                      &gs->Bu, &inc->shooters, &inc->values, &inc->power,
-                                     hemicube_ids_view(inc->old_ids),
+                                     &inc->prev_surfaces, hemicube_ids_view(inc->old_ids),
                                      hemicube_ids_view(inc->new_ids)});
     /* Per command buffer: two updates, and a hemicube and a reconstruct
      * interval per chunk. */
@@ -414,7 +421,7 @@ static void compute_barrier(VkCommandBuffer cmd)
 }
 
 /* Copies the host's shooters [first, first + count) into the table (and,
- * for the old pose, the vertices), before the hemicubes' vertex stages and
+ * for the old pose, the vertices and the surfaces), before the hemicubes' vertex stages and
  * the compute steps read them. */
 static void record_upload(xrad_solver *s, incremental *inc, VkCommandBuffer cmd, uint32_t first,
                           uint32_t count, bool vertices)
@@ -422,6 +429,9 @@ static void record_upload(xrad_solver *s, incremental *inc, VkCommandBuffer cmd,
     if (vertices) {
         VkBufferCopy v = {0, 0, (VkDeviceSize)s->gs.vertex_count * sizeof(gpu_scene_vertex)};
         vkCmdCopyBuffer(cmd, s->gs.vertices.buffer, inc->prev_vertices.buffer, 1, &v);
+        VkBufferCopy f = {0, 0, (VkDeviceSize)s->gs.surface_count * sizeof(struct gpu_surface)};
+        if (s->gs.surface_count)
+            vkCmdCopyBuffer(cmd, s->gs.surfaces.buffer, inc->prev_surfaces.buffer, 1, &f);
     }
     if (count) {
         VkDeviceSize at = (VkDeviceSize)first * sizeof(struct gpu_shooter);

@@ -25,9 +25,9 @@ enum {
      * adds what M does to C itself). */
     PROGRESSIVE_STATIC_ONLY = 1u << 0,
     /* A redistribution removes the shots again frame after frame
-     * (incremental radiosity): they see as its pass sees (thesis 4.3.3's
-     * nearest-texel check, the patch's mean radiosity near it, contact with
-     * M left to the hemicubes; reconstruct_params.redistributed). */
+     * (incremental radiosity): they see as its pass sees (the occluder
+     * test from the patch's centre, the patch's mean radiosity near it,
+     * contact left to the hemicubes; reconstruct_params.redistributed). */
     PROGRESSIVE_REDISTRIBUTED = 1u << 1,
 };
 
