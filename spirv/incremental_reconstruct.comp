@@ -37,8 +37,20 @@ layout(push_constant) uniform Push { incr_push pc; };
 
 layout(std430, binding = INCR_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
 layout(std430, binding = INCR_BINDING_OLD_SURFACES) readonly buffer OldSurfaces { gpu_surface old_surfaces[]; };
-// The old hemicubes show M where old_surfaces has it.
-#define SHOOTING_OCCLUDER(i, old) ((old) ? old_surfaces[i] : surfaces[i])
+// The old hemicubes show M where old_surfaces has it. Copied member by
+// member: the two blocks' gpu_surface are distinct SPIR-V types, and a
+// select between them is invalid SPIR-V.
+gpu_surface occluder_at(uint i, bool old)
+{
+    gpu_surface s = surfaces[i];
+    if (old) {
+        s.normal_area = old_surfaces[i].normal_area;
+        for (int k = 0; k < 4; k++)
+            s.corner[k] = old_surfaces[i].corner[k];
+    }
+    return s;
+}
+#define SHOOTING_OCCLUDER(i, old) occluder_at(i, old)
 #include "shooting.glsl"
 layout(std430, binding = INCR_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
 layout(std430, binding = INCR_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };
