@@ -206,7 +206,11 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // sides' bottom rows were 0.76-0.80 of the CPU reference's). The
     // surfaces the texels towards x show are the candidate occluders of
     // every block.
-    if (exact && near && area > dot(d, d)) {
+    // Cross's iterations (static_only) shoot signed changes and keep the
+    // centre's visibility: with the blocks', 10,000 frames of a sliding box
+    // settled 13% above the power bound after frame 4000.
+    bool blocks = pc.static_only == 0u;
+    if (exact && blocks && near && area > dot(d, d)) {
         uint cand[9];
         uint ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u,
                                          cand);
@@ -216,6 +220,10 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
         return 0.0;
     if (!near)
         return shooting_disk(d, cs, ce, area);
+    if (exact && area > dot(d, d)) {
+        uint none[9];
+        return near_cells(x, ne, surfaces[sh.surface], sh, none, 0u);
+    }
     return shooting_quad(x, ne, surfaces[sh.surface], sh);
 }
 

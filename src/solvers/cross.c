@@ -276,8 +276,10 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "cross solver: out of host memory");
     s->impl = c;
     xrad_status st;
+    /* Without dynamic objects there is nothing to redistribute: plain
+     * progressive refinement, with all it sees. */
     if ((st = dynamic_patches_build(s->scene, s->desc.max_patches, &c->dp, err)) ||
-        (st = progressive_create(s, PROGRESSIVE_STATIC_ONLY, &c->prog, err)))
+        (st = progressive_create(s, c->dp.count ? PROGRESSIVE_STATIC_ONLY : 0u, &c->prog, err)))
         goto fail;
     c->P = c->dp.count;
     /* The lights matter where something moves in front of them. */

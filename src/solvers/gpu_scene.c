@@ -337,11 +337,17 @@ xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
  * image generation", section 4): what the unshot radiosity Bu would add
  * if it spread evenly over an enclosure of the area-mean albedo,
  * rho_i x (sum Bu_j A_j / sum A_j) / (1 - rho_mean), per channel. Exact in
- * a closed uniform furnace, a first-order estimate elsewhere. */
-static void add_ambient(const xrad_scene *scene, const vec4 *bu, vec4 *b, uint32_t n)
+ * a closed uniform furnace, a first-order estimate elsewhere. Buried
+ * elements (`buried`, gpu_scene.buried) take no light and are not part of
+ * the enclosure: with the term, the bottom of cornell-large's box read 16
+ * times the CPU reference's. */
+static void add_ambient(const xrad_scene *scene, const uint8_t *buried, const vec4 *bu, vec4 *b,
+                        uint32_t n)
 {
     double area = 0, u[3] = {0, 0, 0}, rho[3] = {0, 0, 0};
     for (uint32_t i = 0; i < n; i++) {
+        if (buried[i])
+            continue;
         const element *el = &scene->elements[i];
         vec3 al = scene->materials[scene->surfaces[el->surface].material].albedo;
         double a = el->area;
@@ -359,6 +365,8 @@ static void add_ambient(const xrad_scene *scene, const vec4 *bu, vec4 *b, uint32
     for (int c = 0; c < 3; c++)
         amb[c] = u[c] / area / (1 - rho[c] / area);
     for (uint32_t i = 0; i < n; i++) {
+        if (buried[i])
+            continue;
         const element *el = &scene->elements[i];
         vec3 al = scene->materials[scene->surfaces[el->surface].material].albedo;
         b[i].x += (float)(al.x * amb[0]);
@@ -388,7 +396,7 @@ xrad_status gpu_scene_read(struct xrad_context *ctx, gpu_scene *gs, xrad_atlas *
     }
     xrad_status s = gpu_readback_buffer(ctx, &gs->B, 0, b, bytes, err);
     if (!s && ambient && !(s = gpu_readback_buffer(ctx, &gs->Bu, 0, bu, bytes, err)))
-        add_ambient(scene, bu, b, gs->element_count);
+        add_ambient(scene, gs->buried, bu, b, gs->element_count);
     if (!s) {
         memset(atlas->rgba, 0, (size_t)atlas->width * atlas->height * 4 * sizeof(float));
         for (uint32_t i = 0; i < gs->element_count; i++) {

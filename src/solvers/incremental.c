@@ -254,7 +254,8 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
     if (!st && inc->dp.count)
         st = dynamic_patches_fix(s->ctx, &s->gs, &inc->dp, err);
     if (!st)
-        st = progressive_create(s, PROGRESSIVE_REDISTRIBUTED, &inc->engine, err);
+        st = progressive_create(s, inc->dp.count ? PROGRESSIVE_REDISTRIBUTED : 0u, &inc->engine,
+                                err); /* nothing to redistribute: plain progressive */
     if (!st && inc->dp.count)
         st = create_state(s, inc, err);
     if (st) {
