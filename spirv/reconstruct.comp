@@ -205,10 +205,9 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // under a box still lights the box's side from its part in front (the
     // sides' bottom rows were 0.76-0.80 of the CPU reference's). The
     // surfaces the texels towards x show are the candidate occluders of
-    // every block.
-    // Cross's iterations (static_only) shoot signed changes and keep the
-    // centre's visibility: with the blocks', 10,000 frames of a sliding box
-    // settled 13% above the power bound after frame 4000.
+    // every block. Cross's iterations (static_only) shoot signed changes
+    // and keep the centre's visibility: with the blocks', 10,000 frames of
+    // a sliding box settled 13% above the power bound after frame 4000.
     bool blocks = pc.static_only == 0u;
     if (exact && blocks && near && area > dot(d, d)) {
         uint cand[9];
