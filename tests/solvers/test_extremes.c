@@ -593,7 +593,8 @@ static void test_geometry(xrad_context *ctx)
     put_camera(&t, 1);
     /* Element error reported only: the rug z-fights with the floor in the
      * hemicubes, and the CPU reference's rays tie there too. The power
-     * within 6%: progressive measures 4.8%, cross 5.1%. */
+     * within 6%: progressive and cross measure 4.8% (cross read from
+     * 1.8% to 8.2% as its iterations changed during issue 14). */
     against_reference(ctx, parse(&t, "contact.json"), "touching and coplanar surfaces", 0.06, 0,
                       NULL);
 
