@@ -197,9 +197,8 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // Shots a redistribution removes again see as its pass does
     // (reconstruct_params.redistributed): the occluder test, but the
     // patch's mean and its centre's visibility in the near field.
-    bool exact = pc.redistributed == 0u;
-    bool visible = shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local,
-                                    sh.hemicube, se + 1u, sh.pos_area.xyz, x, true);
+    bool near_field = pc.redistributed == 0u && near && area > dot(d, d);
+    uint cand[9];
     // Nearer than its size, a patch's visibility is its blocks' (near_cells)
     // rather than its centre's: a floor patch whose centre lies behind or
     // under a box still lights the box's side from its part in front (the
@@ -208,22 +207,18 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // every block. Cross's iterations (static_only) shoot signed changes
     // and keep the centre's visibility: with the blocks', 10,000 frames of
     // a sliding box settled 13% above the power bound after frame 4000.
-    bool blocks = pc.static_only == 0u;
-    if (exact && blocks && near && area > dot(d, d)) {
-        uint cand[9];
+    if (near_field && pc.static_only == 0u) {
         uint ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u,
                                          cand);
         return near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
     }
-    if (!visible)
+    if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
+                          se + 1u, sh.pos_area.xyz, x, true))
         return 0.0;
     if (!near)
         return shooting_disk(d, cs, ce, area);
-    if (exact && area > dot(d, d)) {
-        uint none[9];
-        return near_cells(x, ne, surfaces[sh.surface], sh, none, 0u);
-    }
-    return shooting_quad(x, ne, surfaces[sh.surface], sh);
+    return near_field ? near_cells(x, ne, surfaces[sh.surface], sh, cand, 0u)
+                      : shooting_quad(x, ne, surfaces[sh.surface], sh);
 }
 
 void main()
