@@ -163,14 +163,31 @@ xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
                               uint8_t *buried, uint32_t *count, xrad_error *err);
 
 /* Enclosure: sets enclosed[e] (element_count bytes) for every element of
- * a static object whose receiver point sees only back faces of static
- * surfaces along 25 rays spread over its hemisphere: it lies inside a
- * closed volume (the floor under a plinth without a bottom face), where no
- * light reaches it, but no face touches it (scene_find_buried). Scenes
- * with more than SCENE_ENCLOSED_MAX_WORK element x surface pairs are not
- * tested (every element open). `count` receives how many are enclosed. */
+ * a static object that no light reaches: 25 rays spread over its
+ * hemisphere (the normal and 4 rings of 6) find what it sees, and light
+ * spreads from the emitters' elements and from rays that leave the scene
+ * along rays that meet a front face, both ways, until nothing changes.
+ * What stays dark lies inside a closed volume, no face touching it
+ * (scene_find_buried): the floor under a plinth without a bottom face, the
+ * floor and wall inside a cabinet standing against the wall without a
+ * back face. Only static surfaces count. With no static emitter (a
+ * moving lamp) only elements whose every ray meets a back face count as
+ * enclosed. Scenes with more than SCENE_ENCLOSED_MAX_WORK element x
+ * surface pairs are not tested (every element open). `count` receives
+ * how many are enclosed. */
 #define SCENE_ENCLOSED_MAX_WORK 2e8
 xrad_status scene_find_enclosed(const xrad_scene *scene, uint8_t *enclosed, uint32_t *count,
                                 xrad_error *err);
+
+/* The same at scene time `time` for what moving objects close in: sets
+ * enclosed[e] for every element of a static object, within a dynamic
+ * object's bounds and not in static_enclosed (scene_find_enclosed's
+ * result, or NULL), that no light reaches with the dynamic surfaces posed
+ * at `time` among what the rays meet (the floor under a moving box
+ * without a bottom face). A patch shooting from there would see only the
+ * box's inside: its light was lost (room 1 of tests/solvers/rooms.c). */
+xrad_status scene_find_enclosed_dynamic(const xrad_scene *scene, double time,
+                                        const uint8_t *static_enclosed, uint8_t *enclosed,
+                                        uint32_t *count, xrad_error *err);
 
 #endif

@@ -3,6 +3,7 @@
  * it). */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/error.h"
 #include "scene/scene.h"
@@ -107,14 +108,15 @@ xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
 }
 
 /* The nearest surface the ray o + t dir (t > tmin) meets, or -1; *back is
- * set when the ray meets its back face. Only static surfaces count. */
-static int32_t nearest_static_hit(const xrad_scene *scene, const vec3 *corners,
-                                  const vec3 *normals, vec3 o, vec3 dir, double tmin, bool *back)
+ * set when the ray meets its back face, *at to the point met. Dynamic
+ * surfaces count only with `dynamic_too`. */
+static int32_t nearest_hit(const xrad_scene *scene, const vec3 *corners, const vec3 *normals,
+                           vec3 o, vec3 dir, double tmin, bool dynamic_too, bool *back, vec3 *at)
 {
     int32_t best = -1;
     double best_t = INFINITY;
     for (uint32_t s = 0; s < scene->surface_count; s++) {
-        if (scene->objects[scene->surfaces[s].object].dynamic)
+        if (!dynamic_too && scene->objects[scene->surfaces[s].object].dynamic)
             continue;
         vec3 n = normals[s];
         double along = v3_dot(n, dir);
@@ -128,65 +130,318 @@ static int32_t nearest_static_hit(const xrad_scene *scene, const vec3 *corners,
         best = (int32_t)s;
         best_t = t;
         *back = along > 0;
+        *at = v3_mad(o, dir, t);
     }
     return best;
+}
+
+/* Whether a surface other than `skip` crosses the segment a-b (ends
+ * excluded). */
+static bool segment_blocked(const xrad_scene *scene, const vec3 *corners, const vec3 *normals,
+                            vec3 a, vec3 b, bool dynamic_too, uint32_t skip)
+{
+    vec3 d = v3_sub(b, a);
+    for (uint32_t s = 0; s < scene->surface_count; s++) {
+        if (s == skip || (!dynamic_too && scene->objects[scene->surfaces[s].object].dynamic))
+            continue;
+        double along = v3_dot(normals[s], d);
+        if (along == 0)
+            continue;
+        double t = v3_dot(normals[s], v3_sub(corners[4 * s], a)) / along;
+        if (t > 1e-9 && t < 1 - 1e-9 && inside_quad(&corners[4 * s], normals[s], v3_mad(a, d, t), 0.0))
+            return true;
+    }
+    return false;
+}
+
+/* The parameters (u, v) of y on the planar quad c (surface_point's
+ * bilinear map), by Newton's method, clamped to [0, 1]. */
+static void quad_params(const vec3 c[4], vec3 y, double *u, double *v)
+{
+    double s = 0.5, t = 0.5;
+    for (int it = 0; it < 8; it++) {
+        vec3 a = v3_lerp(c[0], c[1], s), b = v3_lerp(c[3], c[2], s);
+        vec3 r = v3_sub(y, v3_lerp(a, b, t));
+        vec3 ds = v3_lerp(v3_sub(c[1], c[0]), v3_sub(c[2], c[3]), t), dt = v3_sub(b, a);
+        double a11 = v3_dot(ds, ds), a12 = v3_dot(ds, dt), a22 = v3_dot(dt, dt);
+        double b1 = v3_dot(ds, r), b2 = v3_dot(dt, r), det = a11 * a22 - a12 * a12;
+        if (!(det > 0))
+            break;
+        s += (a22 * b1 - a12 * b2) / det;
+        t += (a11 * b2 - a12 * b1) / det;
+    }
+    *u = fmin(fmax(s, 0.0), 1.0);
+    *v = fmin(fmax(t, 0.0), 1.0);
+}
+
+/* What a ray of an element meets (enclosure): the element it sees, or: */
+#define RAY_OPEN UINT32_MAX         /* nothing: it leaves the scene */
+#define RAY_BACK (UINT32_MAX - 1)   /* a back face */
+#define RAY_HIDDEN (UINT32_MAX - 2) /* a front face whose elements it cannot see */
+#define RAY_SEES(h) ((h) < RAY_HIDDEN)
+#define RAY_COUNT 25
+
+typedef struct ray_scene {
+    const xrad_scene *scene;
+    double time, diameter;
+    bool dynamic_too;
+    vec3 *corners, *normals; /* world, at `time` */
+} ray_scene;
+
+/* The element of surface s whose receiver point y (on s, world) can see:
+ * of the samples around y, nearest first, the first whose cell centroid
+ * no surface hides from y (just off the surface, so that a block standing
+ * on it hides the cells on its far side: a cabinet against a wall without
+ * a back face closes a pocket of wall and floor, whose cells straddling
+ * its edge lie outside). RAY_HIDDEN if none. */
+static uint32_t element_seen(const ray_scene *rs, uint32_t s, vec3 y)
+{
+    const xrad_scene *scene = rs->scene;
+    const surface *sf = &scene->surfaces[s];
+    double u, v;
+    quad_params(&rs->corners[4 * s], y, &u, &v);
+    double fu = u * (sf->nu - 1), fv = v * (sf->nv - 1);
+    uint32_t i0 = (uint32_t)fu, j0 = (uint32_t)fv;
+    uint32_t cand[4], nc = 0;
+    /* Nearest sample first, then the other three around y. */
+    uint32_t in = (uint32_t)(fu + 0.5), jn = (uint32_t)(fv + 0.5);
+    cand[nc++] = jn * sf->nu + in;
+    for (uint32_t dj = 0; dj < 2; dj++)
+        for (uint32_t di = 0; di < 2; di++) {
+            uint32_t i = i0 + di < sf->nu ? i0 + di : sf->nu - 1;
+            uint32_t j = j0 + dj < sf->nv ? j0 + dj : sf->nv - 1;
+            uint32_t k = j * sf->nu + i;
+            bool have = false;
+            for (uint32_t m = 0; m < nc; m++)
+                have |= cand[m] == k;
+            if (!have && nc < 4)
+                cand[nc++] = k;
+        }
+    xform pose = scene_object_pose(scene, sf->object, rs->time);
+    vec3 off = v3_scale(rs->normals[s], 1e-6 * rs->diameter);
+    for (uint32_t m = 0; m < nc; m++) {
+        uint32_t e = sf->first_element + cand[m];
+        vec3 c = xf_point(&pose, scene_element_centroid(sf, &scene->elements[e]));
+        if (!segment_blocked(scene, rs->corners, rs->normals, v3_add(y, off), v3_add(c, off),
+                             rs->dynamic_too, s))
+            return e;
+    }
+    return RAY_HIDDEN;
+}
+
+/* The RAY_COUNT rays of the point x (normal n): the normal and 4 rings of
+ * 6 azimuths (elevations 15-75 degrees); out[k] is what ray k meets. */
+static void trace_rays(const ray_scene *rs, vec3 x, vec3 n, uint32_t out[RAY_COUNT])
+{
+    vec3 t = fabs(n.x) < 0.9 ? v3(1, 0, 0) : v3(0, 1, 0);
+    t = v3_norm(v3_sub(t, v3_scale(n, v3_dot(t, n))));
+    vec3 b = v3_cross(n, t);
+    vec3 o = v3_mad(x, n, 1e-7 * rs->diameter);
+    int k = 0;
+    for (int ring = -1; ring < 4; ring++) {
+        int az_count = ring < 0 ? 1 : 6;
+        for (int az = 0; az < az_count; az++, k++) {
+            double el = ring < 0 ? SCENE_PI / 2 : (15.0 + 20.0 * ring) * SCENE_PI / 180.0;
+            double phi = (az + 0.5 * (ring & 1)) * 2.0 * SCENE_PI / az_count;
+            vec3 dir = v3_add(v3_scale(n, sin(el)), v3_add(v3_scale(t, cos(el) * cos(phi)),
+                                                           v3_scale(b, cos(el) * sin(phi))));
+            bool back = false;
+            vec3 at = x;
+            int32_t hit = nearest_hit(rs->scene, rs->corners, rs->normals, o, dir,
+                                      1e-7 * rs->diameter, rs->dynamic_too, &back, &at);
+            out[k] = hit < 0 ? RAY_OPEN : back ? RAY_BACK : element_seen(rs, (uint32_t)hit, at);
+        }
+    }
+}
+
+static bool emits(const xrad_scene *scene, uint32_t s)
+{
+    vec3 e = scene->materials[scene->surfaces[s].material].emission;
+    return e.x > 0 || e.y > 0 || e.z > 0;
+}
+
+/* Light's reach over the rays: lit[e] for every element e of `cand`
+ * (ncand of them, rays[k * RAY_COUNT ...] theirs) that a ray leaving the
+ * scene, or one meeting a lit element, reaches, repeated until nothing
+ * changes. Light runs both ways along a ray that meets a front face (each
+ * side sees the other's front). Elements outside cand keep lit[] as it is. */
+static void spread_light(const uint32_t *cand, uint32_t ncand, const uint32_t *rays, uint8_t *lit)
+{
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (uint32_t k = 0; k < ncand; k++) {
+            for (int r = 0; r < RAY_COUNT && !lit[cand[k]]; r++) {
+                uint32_t h = rays[(size_t)k * RAY_COUNT + r];
+                if (h == RAY_OPEN || (RAY_SEES(h) && lit[h]))
+                    lit[cand[k]] = changed = true;
+            }
+            for (int r = 0; r < RAY_COUNT && lit[cand[k]]; r++) {
+                uint32_t h = rays[(size_t)k * RAY_COUNT + r];
+                if (RAY_SEES(h) && !lit[h])
+                    lit[h] = changed = true;
+            }
+        }
+    }
+}
+
+static xrad_status ray_scene_init(ray_scene *rs, const xrad_scene *scene, double time,
+                                  bool dynamic_too, xrad_error *err)
+{
+    rs->scene = scene;
+    rs->time = time;
+    rs->dynamic_too = dynamic_too;
+    xrad_status st = world_quads(scene, time, &rs->corners, &rs->normals, err);
+    if (st)
+        return st;
+    vec3 lo, hi;
+    scene_bounds(scene, time, &lo, &hi);
+    rs->diameter = v3_len(v3_sub(hi, lo));
+    return XRAD_OK;
+}
+
+static void ray_scene_free(ray_scene *rs)
+{
+    free(rs->corners);
+    free(rs->normals);
+}
+
+/* Enclosure of the elements with within[e] set, at scene time `time`
+ * (dynamic surfaces among the rays' targets with dynamic_too): enclosed[e]
+ * where no light reaches e (spread_light), static_enclosed[e] (NULL: none)
+ * left out; *count of them. */
+static xrad_status enclosure(const xrad_scene *scene, double time, bool dynamic_too,
+                             const uint8_t *within, const uint8_t *static_enclosed,
+                             uint8_t *enclosed, uint32_t *count, xrad_error *err)
+{
+    uint32_t ne = scene->element_count;
+    *count = 0;
+    for (uint32_t e = 0; e < ne; e++)
+        enclosed[e] = 0;
+    /* Every element casts 25 rays at every surface: past this much work
+     * (seconds on one core) a scene goes without the test. */
+    if ((double)ne * scene->surface_count > SCENE_ENCLOSED_MAX_WORK)
+        return XRAD_OK;
+    uint32_t ncand = 0;
+    for (uint32_t e = 0; e < ne; e++)
+        ncand += within[e] != 0;
+    if (!ncand)
+        return XRAD_OK;
+    uint32_t *cand = malloc(ncand * sizeof(uint32_t));
+    uint32_t *rays = malloc((size_t)ncand * RAY_COUNT * sizeof(uint32_t));
+    uint8_t *lit = malloc(ne ? ne : 1);
+    ray_scene rs = {0};
+    xrad_status st = !cand || !rays || !lit
+                         ? xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for enclosure",
+                                     scene->path)
+                         : ray_scene_init(&rs, scene, time, dynamic_too, err);
+    if (st)
+        goto done;
+    /* Light starts at the emitters; with none static (a moving lamp) the
+     * static test cannot tell where it will be, and only what sees no
+     * front face at all is closed in. Elements outside cand are lit unless
+     * the static test closed them in. */
+    bool static_light = false;
+    for (uint32_t s = 0; s < scene->surface_count; s++)
+        static_light |= emits(scene, s) && !scene->objects[scene->surfaces[s].object].dynamic;
+    ncand = 0;
+    for (uint32_t e = 0; e < ne; e++) {
+        const element *el = &scene->elements[e];
+        const surface *sf = &scene->surfaces[el->surface];
+        lit[e] = within[e] ? emits(scene, el->surface) : !(static_enclosed && static_enclosed[e]);
+        if (!within[e])
+            continue;
+        xform pose = scene_object_pose(scene, sf->object, time);
+        vec3 x = xf_point(&pose, scene_element_centroid(sf, el));
+        uint32_t *r = &rays[(size_t)ncand * RAY_COUNT];
+        trace_rays(&rs, x, rs.normals[el->surface], r);
+        if (!dynamic_too && !static_light)
+            for (int k = 0; k < RAY_COUNT; k++)
+                lit[e] |= r[k] != RAY_BACK;
+        cand[ncand++] = e;
+    }
+    spread_light(cand, ncand, rays, lit);
+    for (uint32_t k = 0; k < ncand; k++) {
+        uint32_t e = cand[k];
+        /* Every ray on a back face (a ceiling element above a lamp hung 1
+         * cm below it; a gap's grazing rays reach out) counts as closed in
+         * whatever the light: shooting from there, a patch saw the lamp's
+         * back over half its hemicube. */
+        bool backs = true;
+        for (int r = 0; r < RAY_COUNT; r++)
+            backs &= rays[(size_t)k * RAY_COUNT + r] == RAY_BACK;
+        if ((!lit[e] || backs) && !(static_enclosed && static_enclosed[e])) {
+            enclosed[e] = 1;
+            (*count)++;
+        }
+    }
+done:
+    ray_scene_free(&rs);
+    free(cand);
+    free(rays);
+    free(lit);
+    return st;
 }
 
 xrad_status scene_find_enclosed(const xrad_scene *scene, uint8_t *enclosed, uint32_t *count,
                                 xrad_error *err)
 {
-    uint32_t ns = scene->surface_count;
-    *count = 0;
+    uint8_t *within = malloc(scene->element_count ? scene->element_count : 1);
+    if (!within)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for enclosure", scene->path);
     for (uint32_t e = 0; e < scene->element_count; e++)
-        enclosed[e] = 0;
-    /* Every element casts 25 rays at every surface: past this much work
-     * (seconds on one core) a scene goes without the test. */
-    if ((double)scene->element_count * ns > SCENE_ENCLOSED_MAX_WORK)
-        return XRAD_OK;
-    vec3 *corners, *normals;
-    xrad_status st = world_quads(scene, 0.0, &corners, &normals, err);
-    if (st)
-        return st;
-    vec3 lo, hi;
-    scene_bounds(scene, 0.0, &lo, &hi);
-    double diameter = v3_len(v3_sub(hi, lo));
-    for (uint32_t r = 0; r < ns; r++) {
-        const surface *sr = &scene->surfaces[r];
-        if (scene->objects[sr->object].dynamic)
+        within[e] = !scene->objects[scene->surfaces[scene->elements[e].surface].object].dynamic;
+    xrad_status st = enclosure(scene, 0.0, false, within, NULL, enclosed, count, err);
+    free(within);
+    return st;
+}
+
+xrad_status scene_find_enclosed_dynamic(const xrad_scene *scene, double time,
+                                        const uint8_t *static_enclosed, uint8_t *enclosed,
+                                        uint32_t *count, xrad_error *err)
+{
+    uint32_t ns = scene->surface_count;
+    uint8_t *within = calloc(scene->element_count ? scene->element_count : 1, 1);
+    vec3 *corners = NULL, *normals = NULL;
+    xrad_status st = within ? world_quads(scene, time, &corners, &normals, err)
+                            : xrad_fail(err, XRAD_ERROR_SYSTEM,
+                                        "%s: out of memory for enclosure", scene->path);
+    /* A point a dynamic object closes in lies within the object's bounds
+     * at this pose: only static elements there cast rays. */
+    bool any = false;
+    for (uint32_t o = 0; !st && o < scene->object_count; o++) {
+        if (!scene->objects[o].dynamic)
             continue;
-        vec3 n = normals[r];
-        /* A frame about the normal for the ray directions. */
-        vec3 t = fabs(n.x) < 0.9 ? v3(1, 0, 0) : v3(0, 1, 0);
-        t = v3_norm(v3_sub(t, v3_scale(n, v3_dot(t, n))));
-        vec3 b = v3_cross(n, t);
-        xform pose = scene_object_pose(scene, sr->object, 0.0);
-        for (uint32_t k = 0; k < sr->nu * sr->nv; k++) {
-            uint32_t e = sr->first_element + k;
-            vec3 x = xf_point(&pose, scene_element_centroid(sr, &scene->elements[e]));
-            vec3 o = v3_mad(x, n, 1e-7 * diameter);
-            bool closed = true;
-            /* The normal and 4 rings of 6 azimuths (elevations 15-75
-             * degrees): a point sees out through any gap a ray finds. */
-            for (int ring = -1; ring < 4 && closed; ring++) {
-                int az_count = ring < 0 ? 1 : 6;
-                for (int az = 0; az < az_count && closed; az++) {
-                    double el = ring < 0 ? SCENE_PI / 2 : (15.0 + 20.0 * ring) * SCENE_PI / 180.0;
-                    double phi = (az + 0.5 * (ring & 1)) * 2.0 * SCENE_PI / az_count;
-                    vec3 dir = v3_add(v3_scale(n, sin(el)),
-                                      v3_add(v3_scale(t, cos(el) * cos(phi)),
-                                             v3_scale(b, cos(el) * sin(phi))));
-                    bool back = false;
-                    closed = nearest_static_hit(scene, corners, normals, o, dir,
-                                                1e-7 * diameter, &back) >= 0 && back;
-                }
+        vec3 blo = v3(INFINITY, INFINITY, INFINITY), bhi = v3(-INFINITY, -INFINITY, -INFINITY);
+        for (uint32_t s = 0; s < ns; s++) {
+            if (scene->surfaces[s].object != o)
+                continue;
+            for (int k = 0; k < 4; k++) {
+                vec3 c = corners[4 * s + k];
+                blo = v3(fmin(blo.x, c.x), fmin(blo.y, c.y), fmin(blo.z, c.z));
+                bhi = v3(fmax(bhi.x, c.x), fmax(bhi.y, c.y), fmax(bhi.z, c.z));
             }
-            if (closed) {
-                enclosed[e] = 1;
-                (*count)++;
-            }
+        }
+        double pad = 1e-6 * v3_len(v3_sub(bhi, blo));
+        for (uint32_t e = 0; e < scene->element_count; e++) {
+            const element *el = &scene->elements[e];
+            const surface *sf = &scene->surfaces[el->surface];
+            if (scene->objects[sf->object].dynamic)
+                continue;
+            xform pose = scene_object_pose(scene, sf->object, time);
+            vec3 x = xf_point(&pose, scene_element_centroid(sf, el));
+            if (x.x >= blo.x - pad && x.y >= blo.y - pad && x.z >= blo.z - pad &&
+                x.x <= bhi.x + pad && x.y <= bhi.y + pad && x.z <= bhi.z + pad)
+                within[e] = any = true;
         }
     }
     free(corners);
     free(normals);
-    return XRAD_OK;
+    if (!st && any)
+        st = enclosure(scene, time, true, within, static_enclosed, enclosed, count, err);
+    else if (!st) {
+        *count = 0;
+        memset(enclosed, 0, scene->element_count);
+    }
+    free(within);
+    return st;
 }

@@ -114,8 +114,9 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
     return XRAD_OK;
 }
 
-/* Marks buried elements (scene_find_buried, and the enclosed ones of
- * scene_find_enclosed as buried under static surfaces) in the host tables
+/* Marks buried elements (scene_find_buried, the enclosed ones of
+ * scene_find_enclosed as buried under static surfaces, and those of
+ * scene_find_enclosed_dynamic as under a moving one) in the host tables
  * and in gs->buried, at the pose the tables hold. */
 static xrad_status mark_buried(gpu_scene *gs, double time, double diameter, geometry *g,
                                xrad_error *err)
@@ -123,11 +124,16 @@ static xrad_status mark_buried(gpu_scene *gs, double time, double diameter, geom
     uint32_t count;
     xrad_status s = scene_find_buried(gs->scene, time, GPU_SCENE_CONTACT * diameter, gs->buried,
                                       &count, err);
+    if (!s && (gs->flags & GPU_SCENE_ENCLOSE_MOVING))
+        s = scene_find_enclosed_dynamic(gs->scene, time, gs->enclosed, gs->enclosed_m, &count,
+                                        err);
     if (s)
         return s;
     for (uint32_t e = 0; e < gs->element_count; e++) {
         if (gs->enclosed[e])
             gs->buried[e] = 1;
+        else if (gs->enclosed_m[e] && !gs->buried[e])
+            gs->buried[e] = 2;
         g->elements[e].flags = gs->buried[e] == 1   ? GPU_ELEMENT_BURIED
                                : gs->buried[e] == 2 ? GPU_ELEMENT_BURIED_M
                                                     : 0u;
@@ -237,10 +243,11 @@ gpu_image_desc gpu_scene_atlas_desc(const xrad_scene *scene)
 }
 
 xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, double time,
-                             gpu_scene *out, xrad_error *err)
+                             uint32_t flags, gpu_scene *out, xrad_error *err)
 {
     memset(out, 0, sizeof(*out));
     out->scene = scene;
+    out->flags = flags;
     out->surface_count = scene->surface_count;
     out->element_count = scene->element_count;
     out->material_count = scene->material_count;
@@ -260,8 +267,9 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
     gpu_image_desc ad = gpu_scene_atlas_desc(scene);
     out->buried = calloc(ne, 1);
     out->enclosed = calloc(ne, 1);
+    out->enclosed_m = calloc(ne, 1);
     xrad_status s;
-    if (!out->buried || !out->enclosed) {
+    if (!out->buried || !out->enclosed || !out->enclosed_m) {
         gpu_scene_destroy(ctx, out);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "GPU scene: out of host memory");
     }
@@ -314,6 +322,7 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
     free(gs->fixed_patches);
     free(gs->buried);
     free(gs->enclosed);
+    free(gs->enclosed_m);
     gpu_image_destroy(ctx, &gs->atlas);
     gpu_buffer_destroy(ctx, &gs->vertices);
     gpu_buffer_destroy(ctx, &gs->Bu);

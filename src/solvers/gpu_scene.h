@@ -60,6 +60,9 @@ typedef struct gpu_scene {
     uint8_t *buried;           /* element_count: scene_find_buried at `time` (1: under a
                                   static surface, 2: under a moving one; gpu_element.flags) */
     uint8_t *enclosed;         /* element_count: scene_find_enclosed, found once (static) */
+    uint8_t *enclosed_m;       /* element_count: scene_find_enclosed_dynamic at `time`, with
+                                  GPU_SCENE_ENCLOSE_MOVING (else all 0) */
+    uint32_t flags;            /* GPU_SCENE_* */
 } gpu_scene;
 
 /* Contact distance for buried elements, a fraction of the scene's
@@ -71,9 +74,17 @@ typedef struct gpu_scene {
  * scheduler's two display atlases. */
 gpu_image_desc gpu_scene_atlas_desc(const xrad_scene *scene);
 
+/* gpu_scene_create flags. ENCLOSE_MOVING: at every pose, the static
+ * elements that moving objects close in (scene_find_enclosed_dynamic) are
+ * buried under a moving cover (2 in `buried`, GPU_ELEMENT_BURIED_M). For
+ * the solvers that solve each pose afresh (progressive, gather); cross
+ * and incremental leave M's cover to their redistribution and pose every
+ * frame, where the rays would cost CPU time for nothing. */
+#define GPU_SCENE_ENCLOSE_MOVING 1u
+
 /* Uploads the scene posed at `time`, with B = Bu = E. */
 xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, double time,
-                             gpu_scene *out, xrad_error *err);
+                             uint32_t flags, gpu_scene *out, xrad_error *err);
 
 /* Accepts a zeroed struct; zeroes it. The GPU must be done with it. */
 void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs);

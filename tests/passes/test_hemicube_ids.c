@@ -311,7 +311,7 @@ int main(void)
     CHECK(s == XRAD_OK, "load: %s", err.message);
     gpu_scene gs = {0};
     if (!s) {
-        s = gpu_scene_create(ctx, sc, 0, &gs, &err);
+        s = gpu_scene_create(ctx, sc, 0, 0, &gs, &err);
         CHECK(s == XRAD_OK, "gpu scene: %s", err.message);
     }
     if (!s) {

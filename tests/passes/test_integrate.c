@@ -93,7 +93,7 @@ static xrad_status gather_sums(xrad_context *ctx, const xrad_scene *sc, const fr
     for (uint32_t h = 0; h < n; h++)
         sh[h] = to_shooter(&frames[h]);
     xrad_status s;
-    if ((s = gpu_scene_create(ctx, sc, 0, &gs, &err)))
+    if ((s = gpu_scene_create(ctx, sc, 0, 0, &gs, &err)))
         goto done;
     hemicube_desc hd = {
         .kind = HEMICUBE_RADIOSITY,

@@ -5,7 +5,11 @@
  * 0.75] (four sides facing out and a top). Floor elements whose cell centroid lies
  * strictly inside the box's footprint are buried under it, the box's
  * bottom elements are buried on the floor; floor elements inside the
- * plinth are enclosed; a centroid on a footprint's edge is neither. */
+ * plinth are enclosed; a centroid on a footprint's edge is neither.
+ * A moving plinth without a bottom face, over [1.25, 1.75] x [1.25, 1.75]
+ * at t = 0 and sliding -1 m along x in 1 s, encloses the floor centroids
+ * strictly inside its footprint at each time (scene_find_enclosed_dynamic)
+ * and none for the static test. */
 #include <stdio.h>
 #include <string.h>
 
@@ -32,13 +36,100 @@ static const char *json =
     "   {\"name\": \"s3\", \"material\": \"m\", \"quad\": {\"origin\": [1.25, 0, 0.75],"
     "    \"u\": [0.5, 0, 0], \"v\": [0, 0.3, 0]}},"
     "   {\"name\": \"s4\", \"material\": \"m\", \"quad\": {\"origin\": [1.25, 0, 0.25],"
+    "    \"u\": [0, 0, 0.5], \"v\": [0, 0.3, 0]}}]},"
+    "  {\"name\": \"mover\", \"dynamic\": true, \"animation\": {\"keyframes\": ["
+    "    {\"time\": 0, \"translate\": [0, 0, 0]}, {\"time\": 1, \"translate\": [-1, 0, 0]}]},"
+    "   \"surfaces\": ["
+    "   {\"name\": \"m-top\", \"material\": \"m\", \"quad\": {\"origin\": [1.25, 0.3, 1.25],"
+    "    \"u\": [0, 0, 0.5], \"v\": [0.5, 0, 0]}},"
+    "   {\"name\": \"m1\", \"material\": \"m\", \"quad\": {\"origin\": [1.25, 0, 1.25],"
+    "    \"u\": [0, 0.3, 0], \"v\": [0.5, 0, 0]}},"
+    "   {\"name\": \"m2\", \"material\": \"m\", \"quad\": {\"origin\": [1.75, 0, 1.25],"
+    "    \"u\": [0, 0.3, 0], \"v\": [0, 0, 0.5]}},"
+    "   {\"name\": \"m3\", \"material\": \"m\", \"quad\": {\"origin\": [1.25, 0, 1.75],"
+    "    \"u\": [0.5, 0, 0], \"v\": [0, 0.3, 0]}},"
+    "   {\"name\": \"m4\", \"material\": \"m\", \"quad\": {\"origin\": [1.25, 0, 1.25],"
     "    \"u\": [0, 0, 0.5], \"v\": [0, 0.3, 0]}}]}"
     " ]}";
 
 static bool inside(double a, double lo, double hi) { return a > lo + 1e-9 && a < hi - 1e-9; }
 
+/* A closed 2 m room (0.125 m elements), a lamp hung 1 mm below the
+ * ceiling over [0.75, 1.25]^2, and a cabinet without bottom or back face
+ * standing against the z = 2 wall over x [0.55, 1.05], z [1.45, 2],
+ * 0.55 m high: the floor and the wall inside it form a pocket no light
+ * reaches, though their rays meet front faces (each other's). */
+static const char *pocket_json =
+    "{\"unit\": \"m\", \"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5]},"
+    "  {\"name\": \"lamp\", \"albedo\": [0.5, 0.5, 0.5], \"emission\": [10, 10, 10]}],"
+    " \"objects\": [{\"name\": \"room\", \"surfaces\": ["
+    "  {\"name\": \"floor\", \"material\": \"m\", \"elements\": [17, 17], \"quad\":"
+    "   {\"origin\": [0, 0, 0], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}},"
+    "  {\"name\": \"ceiling\", \"material\": \"m\", \"elements\": [17, 17], \"quad\":"
+    "   {\"origin\": [0, 2, 0], \"u\": [2, 0, 0], \"v\": [0, 0, 2]}},"
+    "  {\"name\": \"x0\", \"material\": \"m\", \"elements\": [17, 17], \"quad\":"
+    "   {\"origin\": [0, 0, 0], \"u\": [0, 2, 0], \"v\": [0, 0, 2]}},"
+    "  {\"name\": \"x2\", \"material\": \"m\", \"elements\": [17, 17], \"quad\":"
+    "   {\"origin\": [2, 0, 0], \"u\": [0, 0, 2], \"v\": [0, 2, 0]}},"
+    "  {\"name\": \"z0\", \"material\": \"m\", \"elements\": [17, 17], \"quad\":"
+    "   {\"origin\": [0, 0, 0], \"u\": [2, 0, 0], \"v\": [0, 2, 0]}},"
+    "  {\"name\": \"z2\", \"material\": \"m\", \"elements\": [17, 17], \"quad\":"
+    "   {\"origin\": [0, 0, 2], \"u\": [0, 2, 0], \"v\": [2, 0, 0]}},"
+    "  {\"name\": \"lamp\", \"material\": \"lamp\", \"elements\": [5, 5], \"quad\":"
+    "   {\"origin\": [0.75, 1.999, 0.75], \"u\": [0.5, 0, 0], \"v\": [0, 0, 0.5]}}]},"
+    "  {\"name\": \"cabinet\", \"surfaces\": ["
+    "  {\"name\": \"top\", \"material\": \"m\", \"elements\": [5, 5], \"quad\":"
+    "   {\"origin\": [0.55, 0.55, 1.45], \"u\": [0, 0, 0.55], \"v\": [0.5, 0, 0]}},"
+    "  {\"name\": \"-x\", \"material\": \"m\", \"elements\": [5, 5], \"quad\":"
+    "   {\"origin\": [0.55, 0, 1.45], \"u\": [0, 0, 0.55], \"v\": [0, 0.55, 0]}},"
+    "  {\"name\": \"+x\", \"material\": \"m\", \"elements\": [5, 5], \"quad\":"
+    "   {\"origin\": [1.05, 0, 1.45], \"u\": [0, 0.55, 0], \"v\": [0, 0, 0.55]}},"
+    "  {\"name\": \"-z\", \"material\": \"m\", \"elements\": [5, 5], \"quad\":"
+    "   {\"origin\": [0.55, 0, 1.45], \"u\": [0, 0.55, 0], \"v\": [0.5, 0, 0]}}]}"
+    " ]}";
+
+/* The pocket: floor centroids strictly inside the cabinet's footprint
+ * (x 0.625-1.0, z 1.5-1.96875: 4 x 5), wall z2's strictly inside its back
+ * outline (x 0.625-1.0, y 0.03125-0.5: 4 x 5); above the lamp, the ceiling
+ * centroids more than a ray's reach (1 mm / tan 15 deg) inside its
+ * outline (x, z 0.875-1.125: 3 x 3), whose every ray meets the lamp's
+ * back. Nothing else. */
+static void test_pocket(void)
+{
+    xrad_scene *sc = NULL;
+    xrad_error err = {0};
+    xrad_status st = xrad_scene_parse(pocket_json, strlen(pocket_json), "pocket.json", &sc, &err);
+    CHECK(st == XRAD_OK, "pocket: parse: %s", err.message);
+    if (st)
+        return;
+    uint8_t *enclosed = calloc(sc->element_count, 1);
+    uint32_t ne = 0, want = 0, wrong = 0;
+    st = scene_find_enclosed(sc, enclosed, &ne, &err);
+    CHECK(st == XRAD_OK, "pocket: enclosed: %s", err.message);
+    for (uint32_t e = 0; !st && e < sc->element_count; e++) {
+        const element *el = &sc->elements[e];
+        const surface *sf = &sc->surfaces[el->surface];
+        vec3 c = scene_element_centroid(sf, el);
+        bool in = (!strcmp(sf->name, "floor") && inside(c.x, 0.55, 1.05) && inside(c.z, 1.45, 2)) ||
+                  (!strcmp(sf->name, "z2") && inside(c.x, 0.55, 1.05) && inside(c.y, 0, 0.55)) ||
+                  (!strcmp(sf->name, "ceiling") && inside(c.x, 0.76, 1.24) && inside(c.z, 0.76, 1.24));
+        want += in;
+        if ((enclosed[e] != 0) != in) {
+            wrong++;
+            fprintf(stderr, "  pocket: %s element (%u, %u) at (%.4f, %.4f, %.4f) %s\n", sf->name,
+                    el->i, el->j, c.x, c.y, c.z, in ? "open, want enclosed" : "enclosed, want open");
+        }
+    }
+    CHECK(want == 49, "pocket: construction: %u elements want enclosed, 49 by count", want);
+    CHECK(wrong == 0 && ne == want, "pocket: %u elements wrongly enclosed or not (%u found, want %u)",
+          wrong, ne, want);
+    free(enclosed);
+    xrad_scene_destroy(&sc);
+}
+
 int main(void)
 {
+    test_pocket();
     xrad_scene *sc = NULL;
     xrad_error err = {0};
     xrad_status st = xrad_scene_parse(json, strlen(json), "contact.json", &sc, &err);
@@ -82,6 +173,28 @@ int main(void)
     /* Buried by a static cover: 1 (scene.h). */
     for (uint32_t e = 0; e < sc->element_count; e++)
         CHECK(buried[e] <= 1, "element %u buried by a moving cover in a static scene", e);
+    /* The moving plinth at t = 0 and 0.5: 9 floor centroids each (0.125 m
+     * apart, 3 strictly inside a 0.5 m side), nothing else. */
+    for (int k = 0; k < 2; k++) {
+        double t = 0.5 * k, x0 = 1.25 - t;
+        st = scene_find_enclosed_dynamic(sc, t, NULL, enclosed, &ne, &err);
+        CHECK(st == XRAD_OK, "enclosed at t = %g: %s", t, err.message);
+        uint32_t want = 0, wrong = 0;
+        for (uint32_t e = 0; e < sc->element_count; e++) {
+            const element *el = &sc->elements[e];
+            const surface *sf = &sc->surfaces[el->surface];
+            vec3 c = scene_element_centroid(sf, el);
+            bool in = !strcmp(sf->name, "floor") && inside(c.x, x0, x0 + 0.5) &&
+                      inside(c.z, 1.25, 1.75);
+            want += in;
+            wrong += (enclosed[e] != 0) != in;
+        }
+        CHECK(want == 9, "construction: %u floor centroids under the moving plinth at t = %g",
+              want, t);
+        CHECK(wrong == 0 && ne == want,
+              "t = %g: %u elements wrongly enclosed by the moving plinth or not (%u found, want %u)",
+              t, wrong, ne, want);
+    }
     free(buried);
     free(enclosed);
     xrad_scene_destroy(&sc);
