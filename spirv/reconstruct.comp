@@ -204,10 +204,13 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // under a box still lights the box's side from its part in front (the
     // sides' bottom rows were 0.76-0.80 of the CPU reference's). The
     // surfaces the texels towards x show are the candidate occluders of
-    // every block. Cross's iterations (static_only) shoot signed changes
-    // and keep the centre's visibility: with the blocks', 10,000 frames of
-    // a sliding box settled 13% above the power bound after frame 4000.
-    if (near_field && pc.static_only == 0u) {
+    // every block. Cross's iterations after its restart shoot signed
+    // changes and keep the centre's visibility (pc.near_blocks 0): with
+    // the blocks', 10,000 frames of a sliding box settled 13% above the
+    // power bound after frame 4000. Its restart, C's plain solve, sees
+    // block by block (room 1's table sides at the floor 0.84 of the CPU
+    // reference's without).
+    if (near_field && pc.near_blocks != 0u) {
         uint ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u,
                                          cand);
         return near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);

@@ -38,6 +38,7 @@ struct reconstruct_push {
     uint conserve_fixed;   /* 1: fixed patches are scaled too (a first solve) */
     uint static_only;      /* 1: the hemicubes draw C alone; M's elements receive nothing */
     uint redistributed;    /* 1: as incremental_reconstruct.comp sees (removed again) */
+    uint near_blocks;      /* 1: near patches seen block by block (near_cells) */
 };
 
 #endif

@@ -118,6 +118,7 @@ void reconstruct_record(reconstruct_pass *p, VkCommandBuffer cmd,
         .conserve_fixed = params->conserve_fixed ? 1u : 0u,
         .static_only = params->static_only ? 1u : 0u,
         .redistributed = params->redistributed ? 1u : 0u,
+        .near_blocks = params->near_blocks && !params->redistributed ? 1u : 0u,
     };
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,
                             NULL);

@@ -71,6 +71,11 @@ typedef struct reconstruct_params {
      * the difference piles up frame after frame (10,000 frames of a
      * sliding box ran to -38 times the emitted power). */
     bool redistributed;
+    /* Receivers very near a patch see it block by block, each block's
+     * visibility its own (spirv/reconstruct.comp near_cells), not by its
+     * centre's. Not for shots of signed changes (cross's iterations after
+     * a restart) nor redistributed ones. */
+    bool near_blocks;
     uint32_t max_shooters;  /* the shooter table's size */
 } reconstruct_params;
 

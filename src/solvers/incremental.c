@@ -18,7 +18,8 @@
  * progressive iterations and the redistribution alike (thesis 4.2's
  * random rotation, fixed per patch rather than per shot). The solve
  * itself, before the fix, shoots C by power as progressive refinement
- * does: what its shots left in the solution differs from what the fixed
+ * does, and sees as it does (progressive_run's restart): what its shots
+ * left in the solution differs from what the fixed
  * patches remove by the discretisation of one subdivision against
  * another, a bounded error that a hidden receiver carries until it is
  * seen again, not one that adds up per frame.

@@ -25,9 +25,11 @@ enum {
      * adds what M does to C itself). */
     PROGRESSIVE_STATIC_ONLY = 1u << 0,
     /* A redistribution removes the shots again frame after frame
-     * (incremental radiosity): they see as its pass sees (the occluder
-     * test from the patch's centre, the patch's mean radiosity near it,
-     * contact left to the hemicubes; reconstruct_params.redistributed). */
+     * (incremental radiosity): those after a restart see as its pass sees
+     * (the occluder test from the patch's centre, the patch's mean
+     * radiosity near it, contact left to the hemicubes;
+     * reconstruct_params.redistributed); a restart shoots as without the
+     * flag. */
     PROGRESSIVE_REDISTRIBUTED = 1u << 1,
 };
 
