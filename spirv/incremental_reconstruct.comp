@@ -17,7 +17,9 @@
 //  INCREMENT  per element, for the chunk's shooters of C (lines 13-18):
 //             elements of M receive the total radiosity where the new
 //             hemicube sees them (RECONSTRUCTIONSHADER(s, e, total), the
-//             reshooting of R_p(C, M)); elements of C follow
+//             reshooting of R_p(C, M)), block by block near a patch or
+//             where its centre does not see them (visible_blocks);
+//             elements of C follow
 //             INCREMENTALRECONSTRUCTIONSHADER (lines 22-37, R_p(C, C)):
 //             seen before and not now -> -shot, now and not before ->
 //             +total, both -> +unshot, neither -> nothing.
@@ -58,6 +60,7 @@ layout(std430, binding = INCR_BINDING_B) buffer Total { vec4 B[]; };
 layout(std430, binding = INCR_BINDING_BU) buffer Unshot { vec4 Bu[]; };
 layout(std430, binding = INCR_BINDING_SHOOTERS) readonly buffer Shooters { gpu_shooter shooters[]; };
 layout(std430, binding = INCR_BINDING_VALUES) buffer Values { incr_value values[]; };
+layout(std430, binding = INCR_BINDING_B_BEFORE) readonly buffer Before { vec4 b_before[]; };
 layout(std430, binding = INCR_BINDING_POWER) writeonly buffer Power { float power[]; };
 layout(binding = INCR_BINDING_IDS_OLD) uniform utexture2DArray ids_old;
 layout(binding = INCR_BINDING_IDS_NEW) uniform utexture2DArray ids_new;
@@ -110,6 +113,42 @@ void reset(uint e)
     }
 }
 
+// What an element of M takes from a patch of C by blocks, each block's
+// visibility its own (reconstruct.comp near_cells): the sum over the
+// blocks of patch sh that the candidate occluders cand[0, ncand) leave
+// visible from x of their form factor times their mean radiosity, over
+// the elements nothing covers or closes in at this pose (gpu_element.flags)
+// as the step found them (b_before: B of C changes in this dispatch). With
+// the centre's visibility and the patch's mean, a floor patch whose centre
+// M covers gave M's sides nothing (room 1's sliding box's sides at 0.66 of
+// the CPU reference by the floor).
+vec3 visible_blocks(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], uint ncand)
+{
+    uint bi = (sh.i1 - sh.i0 + SHOOTING_NEAR_BLOCKS) / SHOOTING_NEAR_BLOCKS;
+    uint bj = (sh.j1 - sh.j0 + SHOOTING_NEAR_BLOCKS) / SHOOTING_NEAR_BLOCKS;
+    vec3 sum = vec3(0.0);
+    for (uint j0 = sh.j0; j0 <= sh.j1; j0 += bj) {
+        uint j1 = min(j0 + bj - 1u, sh.j1);
+        for (uint i0 = sh.i0; i0 <= sh.i1; i0 += bi) {
+            uint i1 = min(i0 + bi - 1u, sh.i1);
+            vec3 b = vec3(0.0);
+            float area = 0.0;
+            for (uint j = j0; j <= j1; j++) {
+                for (uint i = i0; i <= i1; i++) {
+                    uint e = sf.first_element + j * sf.nu + i;
+                    if ((elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u)
+                        continue;
+                    b += b_before[e].rgb * elements[e].pos_area.w;
+                    area += elements[e].pos_area.w;
+                }
+            }
+            if (area > 0.0 && !shooting_block_hidden(sf, i0, i1, j0, j1, x, cand, ncand))
+                sum += b / area * shooting_cells(x, ne, sf, i0, i1, j0, j1);
+        }
+    }
+    return sum;
+}
+
 // NEGATIVE and INCREMENT: element e gathers from shooters [first, first +
 // count), shooter first + h having its hemicubes in layers h * 5...
 void receive(uint e)
@@ -151,9 +190,19 @@ void receive(uint e)
                 continue;
             r = -values[k].shot.rgb;
         } else if (moving) {
-            if (!shooting_visible_at(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                     sh.pos_area.xyz, x, true, false))
+            // M is reset every frame and takes C's total anew: how it sees
+            // C need not match any shot that a frame removes again. Near
+            // the patch, or where its centre does not see x (M covers it,
+            // or an occluder's edge passes between), x sees it block by
+            // block.
+            if ((near && sh.pos_area.w > dot(d, d)) ||
+                !shooting_visible_at(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                     sh.pos_area.xyz, x, true, false)) {
+                uint cand[9];
+                uint nc = shooting_candidates(ids_new, pc.hemicube_res, local, h, se + 1u, cand);
+                gathered += visible_blocks(x, ne, surfaces[sh.surface], sh, cand, nc);
                 continue;
+            }
             r = values[k].total.rgb;
         } else {
             bool was = shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h,

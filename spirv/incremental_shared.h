@@ -9,6 +9,8 @@
  *                                 (written by the host; `radiosity` unused)
  *   values[k]    incr_value       what shooter k shoots, captured before any
  *                                 of the redistribution's shots changes it
+ *   b_before[e]  vec4             B as the INCREMENT step found it: what M's
+ *                                 elements take from C's blocks near them
  *   power[s]     float            per surface: |luminance(sum_e B_e A_e)| on
  *                                 C, 0 on M (host-visible, read once per solve
  *                                 to fix C's patches)
@@ -42,9 +44,10 @@ struct incr_value {
 #define INCR_BINDING_VALUES 6
 #define INCR_BINDING_POWER 7
 #define INCR_BINDING_OLD_SURFACES 8 /* the surfaces at the old pose */
-#define INCR_BINDING_IDS_OLD 9       /* images from here on */
-#define INCR_BINDING_IDS_NEW 10
-#define INCR_BINDING_COUNT 11
+#define INCR_BINDING_B_BEFORE 9     /* B as INCREMENT found it */
+#define INCR_BINDING_IDS_OLD 10      /* images from here on */
+#define INCR_BINDING_IDS_NEW 11
+#define INCR_BINDING_COUNT 12
 
 #define INCR_GROUP 64u
 

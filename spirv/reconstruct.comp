@@ -81,15 +81,12 @@ uint buried_mask()
                                  : GPU_ELEMENT_BURIED_ANY;
 }
 
-// Blocks per side of a patch in its very near field (near_cells).
-const uint NEAR_BLOCKS = 8u;
-
 // Very near a patch (nearer than its size, A_s > r^2) a receiver sees the
 // radiosity vary across it: a ceiling element by a wall sees the dark top
 // of the wall, not the wall's mean, and with the mean both the ceiling's
 // and the wall's edge rows came out 1.2-1.3 times the CPU reference's in a
-// plain room. So the patch counts as up to NEAR_BLOCKS x NEAR_BLOCKS blocks
-// of its elements, each with the exact form factor of its cells and the
+// plain room. So the patch counts as up to SHOOTING_NEAR_BLOCKS per side
+// blocks of its elements, each with the exact form factor of its cells and the
 // mean unshot radiosity of its open elements as select left them (`shot`);
 // returned as the factor that gives that luminance with the patch's mean
 // radiosity, so that conservation and the transfer treat it as any other
@@ -99,8 +96,8 @@ const uint NEAR_BLOCKS = 8u;
 float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], uint ncand)
 {
     float mean = dot(sh.radiosity.rgb, LUMA);
-    uint bi = (sh.i1 - sh.i0 + NEAR_BLOCKS) / NEAR_BLOCKS;
-    uint bj = (sh.j1 - sh.j0 + NEAR_BLOCKS) / NEAR_BLOCKS;
+    uint bi = (sh.i1 - sh.i0 + SHOOTING_NEAR_BLOCKS) / SHOOTING_NEAR_BLOCKS;
+    uint bj = (sh.j1 - sh.j0 + SHOOTING_NEAR_BLOCKS) / SHOOTING_NEAR_BLOCKS;
     float sum = 0.0, magnitude = 0.0, seen = 0.0;
     for (uint j0 = sh.j0; j0 <= sh.j1; j0 += bj) {
         uint j1 = min(j0 + bj - 1u, sh.j1);
@@ -118,15 +115,7 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
                 }
             }
             // A block hidden from x by a candidate occluder gives nothing.
-            bool hidden = false;
-            if (area > 0.0 && ncand > 0u) {
-                vec2 rs = shooting_param_range(i0, i1, sf.nu);
-                vec2 rt = shooting_param_range(j0, j1, sf.nv);
-                vec3 c = shooting_bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y));
-                for (uint m = 0u; m < ncand && !hidden; m++)
-                    hidden = shooting_blocks(surfaces[cand[m]], c, x);
-            }
-            if (area > 0.0 && !hidden) {
+            if (area > 0.0 && !shooting_block_hidden(sf, i0, i1, j0, j1, x, cand, ncand)) {
                 float f = shooting_cells(x, ne, sf, i0, i1, j0, j1);
                 seen += f;
                 sum += f * lum / area;

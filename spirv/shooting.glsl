@@ -217,6 +217,26 @@ float shooting_cells(vec3 x, vec3 ne, gpu_surface sf, uint i0, uint i1, uint j0,
     return shooting_point_to_quad(x, ne, q);
 }
 
+// Blocks per side of a patch that a receiver very near it sees one by one
+// (reconstruct.comp near_cells, incremental_reconstruct.comp
+// visible_blocks).
+const uint SHOOTING_NEAR_BLOCKS = 8u;
+
+// Whether the block [i0, i1] x [j0, j1] of sf is hidden from x: the
+// segment from its centre to x crosses one of the candidate occluders
+// cand[0, ncand) (shooting_candidates), posed as the hemicube that named
+// them was drawn (SHOOTING_OCCLUDER).
+bool shooting_block_hidden(gpu_surface sf, uint i0, uint i1, uint j0, uint j1, vec3 x,
+                           uint cand[9], uint ncand)
+{
+    vec2 rs = shooting_param_range(i0, i1, sf.nu);
+    vec2 rt = shooting_param_range(j0, j1, sf.nv);
+    vec3 c = shooting_bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y));
+    for (uint m = 0u; m < ncand; m++)
+        if (shooting_blocks(SHOOTING_OCCLUDER(cand[m], false), c, x))
+            return true;
+    return false;
+}
 float shooting_quad(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh)
 {
     vec2 rs = shooting_param_range(sh.i0, sh.i1, sf.nu);

@@ -67,6 +67,7 @@ void incremental_reconstruct_bind(struct xrad_context *ctx, incremental_reconstr
         [INCR_BINDING_VALUES] = {b->values, 0},
         [INCR_BINDING_POWER] = {b->power, 0},
         [INCR_BINDING_OLD_SURFACES] = {b->old_surfaces, 0},
+        [INCR_BINDING_B_BEFORE] = {b->b_before, 0},
         [INCR_BINDING_IDS_OLD] = {NULL, b->ids_old},
         [INCR_BINDING_IDS_NEW] = {NULL, b->ids_new},
     };

@@ -31,6 +31,9 @@ typedef struct incremental_reconstruct_bindings {
     /* struct gpu_surface[surface_count] at the old pose: the occluders the
      * old hemicubes show (surfaces holds the new pose during INCREMENT). */
     const gpu_buffer *old_surfaces;
+    /* vec4[element_count]: B as the INCREMENT step found it (what M's
+     * elements take from C's elements near them, block by block). */
+    const gpu_buffer *b_before;
     /* R32_UINT 2D arrays, layer = hemicube * 5 + face, in
      * SHADER_READ_ONLY_OPTIMAL when the pass runs: the chunk's hemicubes
      * at the old pose and at the new pose. */

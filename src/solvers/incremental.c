@@ -93,6 +93,7 @@ typedef struct incremental {
     incremental_reconstruct_pass *pass;
     gpu_buffer prev_vertices; /* gpu_scene_vertex[vertex_count]: the old pose */
     gpu_buffer prev_surfaces; /* struct gpu_surface[surface_count]: the old pose */
+    gpu_buffer b_before;      /* vec4[element_count]: B as the INCREMENT step found it */
     gpu_buffer shooters;      /* struct gpu_shooter[m_count + c_capacity], device */
     gpu_buffer staging;       /* the same, host-written, copied in per step */
     gpu_buffer values;        /* struct incr_value[m_count + c_capacity] */
@@ -120,6 +121,7 @@ static void destroy_state(xrad_solver *s, incremental *inc)
     gpu_buffer_destroy(s->ctx, &inc->shooters);
     gpu_buffer_destroy(s->ctx, &inc->prev_vertices);
     gpu_buffer_destroy(s->ctx, &inc->prev_surfaces);
+    gpu_buffer_destroy(s->ctx, &inc->b_before);
     free(inc->fixed);
     inc->fixed = NULL;
     dynamic_patches_free(&inc->dp);
@@ -188,6 +190,11 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
                                     sizeof(struct gpu_surface),
                                 storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &inc->prev_surfaces, err)) ||
+        (st = gpu_buffer_create(ctx,
+                                (VkDeviceSize)(gs->element_count ? gs->element_count : 1) *
+                                    sizeof(vec4),
+                                storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEM_DEVICE,
+                                GPU_MEM_REDISTRIBUTION, &inc->b_before, err)) ||
         (st = gpu_buffer_create(ctx, (VkDeviceSize)table * sizeof(struct gpu_shooter),
                                 storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &inc->shooters, err)) ||
@@ -231,7 +238,8 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
                                  &(incremental_reconstruct_bindings){
                                      &gs->surfaces, &gs->elements, &gs->materials, &gs->B,
                                      &gs->Bu, &inc->shooters, &inc->values, &inc->power,
-                                     &inc->prev_surfaces, hemicube_ids_view(inc->old_ids),
+                                     &inc->prev_surfaces, &inc->b_before,
+                                     hemicube_ids_view(inc->old_ids),
                                      hemicube_ids_view(inc->new_ids)});
     /* Per command buffer: two updates, and a hemicube and a reconstruct
      * interval per chunk. */
@@ -513,6 +521,17 @@ static xrad_status shoot(xrad_solver *s, incremental *inc, uint32_t mode, uint32
         gpu_timer_start(s->timer, c.cmd);
         if (prepare) {
             record_upload(s, inc, c.cmd, first, count, mode == INCR_MODE_NEGATIVE);
+            if (mode == INCR_MODE_INCREMENT && s->gs.element_count) {
+                /* B before any of this step writes it (the reset, C's
+                 * shots): M's elements read C's blocks there. The barrier
+                 * also orders this read before the reset's writes. */
+                VkBufferCopy b = {0, 0, (VkDeviceSize)s->gs.element_count * sizeof(vec4)};
+                vkCmdCopyBuffer(c.cmd, s->gs.B.buffer, inc->b_before.buffer, 1, &b);
+                gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                                   VK_ACCESS_TRANSFER_WRITE_BIT,
+                                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+            }
             gpu_timer_begin(s->timer, c.cmd, "incr.update");
             /* Line 8 (and line 4's shot radiosity): every shooter's values
              * before any of this step's shots changes B or Bu. */

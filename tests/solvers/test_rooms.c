@@ -34,24 +34,25 @@
 #define P95_MAX 0.05
 #define IMAGE_RATIO_TOL 0.01
 /* What the checks hold every row to while the GPU methods do not meet the
- * thresholds above (issue 14 open: faces of boxes are up to 7% dark under
- * progressive refinement, the moving box's up to 14% under incremental
- * radiosity, see README "Accuracy"). Each bound fails what an earlier fix
- * removed, so that its return fails the test:
- *  - progressive (surface_error <= 0.08, p95 <= 0.07; measured 0.023-0.066
- *    and 0.020-0.054): patches shooting from inside a box without a
- *    bottom or a cabinet's pocket (0.14 and 0.10 in rooms 1 and 2 before),
- *    near patches seen by their centre (room 4: p95 0.110, 0.300);
- *  - incremental and cross (0.2, 0.08; measured 0.023-0.143 and
- *    0.020-0.054): incremental's first solve with its redistribution's
- *    visibility (p95 0.17 in room 3 before), cross's without the near
- *    patches' blocks (p95 0.087, room 1), a breakdown of either;
+ * thresholds above (issue 14 open: faces of boxes are up to 7% dark, the
+ * floating moving box's up to 11% under cross, see README "Accuracy").
+ * Each bound fails what an earlier fix removed, so that its return fails
+ * the test:
+ *  - progressive and incremental (surface_error <= 0.08, p95 <= 0.07;
+ *    measured 0.023-0.066 and 0.020-0.054): patches shooting from inside a
+ *    box without a bottom or a cabinet's pocket (progressive 0.14 and 0.10
+ *    in rooms 1 and 2 before), near patches seen by their centre (room 4:
+ *    p95 0.110, 0.300), incremental's first solve with its
+ *    redistribution's visibility (p95 0.17 in room 3), its moving box
+ *    taking C's light by the patches' centres (0.14 in room 5);
+ *  - cross (0.15, 0.07; measured 0.023-0.107 and 0.020-0.054): its
+ *    restart without the near patches' blocks (p95 0.087, room 1), a
+ *    breakdown;
  *  - gather (0.35, 0.2): rooms 2-4 at 0.16-0.43 before (the reference's
  *    edge samples; 0.01-0.14 now). */
-#define GUARD_REDISTRIBUTES(m) ((m) == XRAD_METHOD_INCREMENTAL || (m) == XRAD_METHOD_CROSS)
 #define GUARD_SURFACE_ERROR_MAX(m)                                                                \
-    (GUARD_REDISTRIBUTES(m) ? 0.2 : (m) == XRAD_METHOD_GATHER ? 0.35 : 0.08)
-#define GUARD_P95_MAX(m) (GUARD_REDISTRIBUTES(m) ? 0.08 : (m) == XRAD_METHOD_GATHER ? 0.2 : 0.07)
+    ((m) == XRAD_METHOD_CROSS ? 0.15 : (m) == XRAD_METHOD_GATHER ? 0.35 : 0.08)
+#define GUARD_P95_MAX(m) ((m) == XRAD_METHOD_GATHER ? 0.2 : 0.07)
 #define GUARD_IMAGE_RATIO_TOL(m) 0.03
 
 typedef struct row {
