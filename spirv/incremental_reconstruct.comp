@@ -158,6 +158,12 @@ void receive(uint e)
     bool moving = sr.dynamic != 0u;
     if (pc.mode == INCR_MODE_NEGATIVE && moving)
         return; // M is reset next; only C keeps what M shot
+    // An element of M in contact (a box's bottom on the floor) takes
+    // nothing: M is reset every frame, so this need not match any shot, and
+    // the blocks below would light it (the floor fills its hemisphere
+    // edge-on; cornell-large's box bottom at 8 times the CPU reference).
+    if (moving && (elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u)
+        return;
     // Contact (gpu_element.flags) is not tested: the hemicubes alone
     // decide here and in the progressive shots this pass removes again
     // (reconstruct_params.redistributed). Skipping buried receivers in
