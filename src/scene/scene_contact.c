@@ -107,6 +107,18 @@ xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
     return XRAD_OK;
 }
 
+/* Whether the line o + t d meets the quad c (normal n) at a t within
+ * (tmin, tmax); *t receives it. */
+static bool quad_hit(const vec3 c[4], vec3 n, vec3 o, vec3 d, double tmin, double tmax,
+                     double *t)
+{
+    double along = v3_dot(n, d);
+    if (along == 0)
+        return false;
+    *t = v3_dot(n, v3_sub(c[0], o)) / along;
+    return *t > tmin && *t < tmax && inside_quad(c, n, v3_mad(o, d, *t), 0.0);
+}
+
 /* The nearest surface the ray o + t dir (t > tmin) meets, or -1; *back is
  * set when the ray meets its back face, *at to the point met. Dynamic
  * surfaces count only with `dynamic_too`. */
@@ -118,18 +130,12 @@ static int32_t nearest_hit(const xrad_scene *scene, const vec3 *corners, const v
     for (uint32_t s = 0; s < scene->surface_count; s++) {
         if (!dynamic_too && scene->objects[scene->surfaces[s].object].dynamic)
             continue;
-        vec3 n = normals[s];
-        double along = v3_dot(n, dir);
-        if (along == 0)
-            continue;
-        double t = v3_dot(n, v3_sub(corners[4 * s], o)) / along;
-        if (!(t > tmin && t < best_t))
-            continue;
-        if (!inside_quad(&corners[4 * s], n, v3_mad(o, dir, t), 0.0))
+        double t;
+        if (!quad_hit(&corners[4 * s], normals[s], o, dir, tmin, best_t, &t))
             continue;
         best = (int32_t)s;
         best_t = t;
-        *back = along > 0;
+        *back = v3_dot(normals[s], dir) > 0;
         *at = v3_mad(o, dir, t);
     }
     return best;
@@ -140,15 +146,11 @@ static int32_t nearest_hit(const xrad_scene *scene, const vec3 *corners, const v
 static bool segment_blocked(const xrad_scene *scene, const vec3 *corners, const vec3 *normals,
                             vec3 a, vec3 b, bool dynamic_too, uint32_t skip)
 {
-    vec3 d = v3_sub(b, a);
     for (uint32_t s = 0; s < scene->surface_count; s++) {
         if (s == skip || (!dynamic_too && scene->objects[scene->surfaces[s].object].dynamic))
             continue;
-        double along = v3_dot(normals[s], d);
-        if (along == 0)
-            continue;
-        double t = v3_dot(normals[s], v3_sub(corners[4 * s], a)) / along;
-        if (t > 1e-9 && t < 1 - 1e-9 && inside_quad(&corners[4 * s], normals[s], v3_mad(a, d, t), 0.0))
+        double t;
+        if (quad_hit(&corners[4 * s], normals[s], a, v3_sub(b, a), 1e-9, 1 - 1e-9, &t))
             return true;
     }
     return false;
@@ -407,33 +409,40 @@ xrad_status scene_find_enclosed_dynamic(const xrad_scene *scene, double time,
                                         "%s: out of memory for enclosure", scene->path);
     /* A point a dynamic object closes in lies within the object's bounds
      * at this pose: only static elements there cast rays. */
-    bool any = false;
+    size_t nobj = scene->object_count ? scene->object_count : 1;
+    vec3 *lo = st ? NULL : malloc(2 * nobj * sizeof(vec3));
+    if (!st && !lo)
+        st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for enclosure", scene->path);
+    vec3 *hi = lo ? lo + scene->object_count : NULL;
     for (uint32_t o = 0; !st && o < scene->object_count; o++) {
-        if (!scene->objects[o].dynamic)
-            continue;
-        vec3 blo = v3(INFINITY, INFINITY, INFINITY), bhi = v3(-INFINITY, -INFINITY, -INFINITY);
-        for (uint32_t s = 0; s < ns; s++) {
-            if (scene->surfaces[s].object != o)
-                continue;
-            for (int k = 0; k < 4; k++) {
-                vec3 c = corners[4 * s + k];
-                blo = v3(fmin(blo.x, c.x), fmin(blo.y, c.y), fmin(blo.z, c.z));
-                bhi = v3(fmax(bhi.x, c.x), fmax(bhi.y, c.y), fmax(bhi.z, c.z));
-            }
+        lo[o] = v3(INFINITY, INFINITY, INFINITY);
+        hi[o] = v3(-INFINITY, -INFINITY, -INFINITY);
+    }
+    for (uint32_t s = 0; !st && s < ns; s++) {
+        uint32_t o = scene->surfaces[s].object;
+        for (int k = 0; k < 4 && scene->objects[o].dynamic; k++) {
+            vec3 c = corners[4 * s + k];
+            lo[o] = v3(fmin(lo[o].x, c.x), fmin(lo[o].y, c.y), fmin(lo[o].z, c.z));
+            hi[o] = v3(fmax(hi[o].x, c.x), fmax(hi[o].y, c.y), fmax(hi[o].z, c.z));
         }
-        double pad = 1e-6 * v3_len(v3_sub(bhi, blo));
-        for (uint32_t e = 0; e < scene->element_count; e++) {
-            const element *el = &scene->elements[e];
-            const surface *sf = &scene->surfaces[el->surface];
-            if (scene->objects[sf->object].dynamic)
-                continue;
-            xform pose = scene_object_pose(scene, sf->object, time);
-            vec3 x = xf_point(&pose, scene_element_centroid(sf, el));
-            if (x.x >= blo.x - pad && x.y >= blo.y - pad && x.z >= blo.z - pad &&
-                x.x <= bhi.x + pad && x.y <= bhi.y + pad && x.z <= bhi.z + pad)
+    }
+    bool any = false;
+    for (uint32_t e = 0; !st && e < scene->element_count; e++) {
+        const element *el = &scene->elements[e];
+        const surface *sf = &scene->surfaces[el->surface];
+        if (scene->objects[sf->object].dynamic)
+            continue;
+        xform pose = scene_object_pose(scene, sf->object, time);
+        vec3 x = xf_point(&pose, scene_element_centroid(sf, el));
+        for (uint32_t o = 0; o < scene->object_count && !within[e]; o++) {
+            double pad = 1e-6 * v3_len(v3_sub(hi[o], lo[o]));
+            if (scene->objects[o].dynamic && x.x >= lo[o].x - pad && x.y >= lo[o].y - pad &&
+                x.z >= lo[o].z - pad && x.x <= hi[o].x + pad && x.y <= hi[o].y + pad &&
+                x.z <= hi[o].z + pad)
                 within[e] = any = true;
         }
     }
+    free(lo);
     free(corners);
     free(normals);
     if (!st && any)
