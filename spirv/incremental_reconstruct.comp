@@ -142,7 +142,7 @@ vec3 visible_blocks(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9
                     area += elements[e].pos_area.w;
                 }
             }
-            if (area > 0.0 && !shooting_block_hidden(sf, i0, i1, j0, j1, x, cand, ncand))
+            if (area > 0.0 && !shooting_block_hidden(sf, i0, i1, j0, j1, x, ne, cand, ncand))
                 sum += b / area * shooting_cells(x, ne, sf, i0, i1, j0, j1);
         }
     }

@@ -81,8 +81,8 @@ uint buried_mask()
                                  : GPU_ELEMENT_BURIED_ANY;
 }
 
-// Very near a patch (nearer than its size, A_s > r^2) a receiver sees the
-// radiosity vary across it: a ceiling element by a wall sees the dark top
+// Near a patch (NEAR_BLOCKS_REACH2 below) a receiver sees the radiosity
+// vary across it: a ceiling element by a wall sees the dark top
 // of the wall, not the wall's mean, and with the mean both the ceiling's
 // and the wall's edge rows came out 1.2-1.3 times the CPU reference's in a
 // plain room. So the patch counts as up to SHOOTING_NEAR_BLOCKS per side
@@ -90,9 +90,8 @@ uint buried_mask()
 // mean unshot radiosity of its open elements as select left them (`shot`);
 // returned as the factor that gives that luminance with the patch's mean
 // radiosity, so that conservation and the transfer treat it as any other
-// form factor (the colour is the patch's). Visibility is each block's:
-// hidden where the segment from its centre to x crosses one of the
-// candidate occluders cand[0, ncand) (shooting_candidates).
+// form factor (the colour is the patch's). Visibility is each block's
+// (shooting_block_hidden, against the candidate occluders cand[0, ncand)).
 float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], uint ncand)
 {
     float mean = dot(sh.radiosity.rgb, LUMA);
@@ -115,7 +114,7 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
                 }
             }
             // A block hidden from x by a candidate occluder gives nothing.
-            if (area > 0.0 && !shooting_block_hidden(sf, i0, i1, j0, j1, x, cand, ncand)) {
+            if (area > 0.0 && !shooting_block_hidden(sf, i0, i1, j0, j1, x, ne, cand, ncand)) {
                 float f = shooting_cells(x, ne, sf, i0, i1, j0, j1);
                 seen += f;
                 sum += f * lum / area;
@@ -167,6 +166,18 @@ float front_fraction(gpu_shooter sh)
     return total > 0.0 ? front / total : 0.0;
 }
 
+// How near, in patch sizes, a receiver sees a patch block by block
+// (near_cells) where the pass may (pc.near_blocks): r^2 < reach^2 x A_s.
+// Within two sizes the receiver still sees the radiosity vary across the
+// patch (a wall by a wall light takes the ceiling above the light mostly
+// from its nearer, darker edge) and the occluders beside it hide one part
+// and not another; at 1 (the patch's size) the rooms' box sides and the
+// wall beside a wall light came out 3-5% dark (tests/solvers/rooms.c,
+// progressive surface_error 0.024-0.051), at 2 within 1.8% but for one
+// room at 2.9%, for 1.2-1.5 times the frame time. Everywhere (every
+// receiver block by block) cost 2-3 times and did no better.
+const float NEAR_BLOCKS_REACH2 = 4.0;
+
 // The form factor from receiver e (point x, normal ne, surface se) to
 // shooter k, 0 where it does not see the shooter.
 float form_factor(uint k, vec3 x, vec3 ne, uint se)
@@ -179,27 +190,33 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     float cs = dot(d, ns), ce = -dot(d, ne);
     float area = sh.pos_area.w;
     bool near = shooting_near(d, area, pc.subdivide_ratio);
-    if (!shooting_faces(d, cs, ce, near))
-        return 0.0;
-    vec3 t = sh.tangent.xyz;
-    vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
     // Shots a redistribution removes again see as its pass does
     // (reconstruct_params.redistributed): the occluder test, but the
     // patch's mean and its centre's visibility in the near field.
     bool near_field = pc.redistributed == 0u && near && area > dot(d, d);
-    uint cand[9];
-    // Nearer than its size, a patch's visibility is its blocks' (near_cells)
-    // rather than its centre's: a floor patch whose centre lies behind or
-    // under a box still lights the box's side from its part in front (the
-    // sides' bottom rows were 0.76-0.80 of the CPU reference's). The
-    // surfaces the texels towards x show are the candidate occluders of
-    // every block. Cross's iterations after its restart shoot signed
+    // Near a patch, or where x's tangent plane cuts through it, its
+    // visibility is its blocks' (near_cells) rather than its centre's: a
+    // floor patch whose centre lies behind or under a box still lights the
+    // box's side from its part in front (the sides' bottom rows were
+    // 0.76-0.80 of the CPU reference's), and a ceiling light cut by the
+    // plane of a floating box's side lights the side from the part in
+    // front, which its centre, behind the plane, does not see (0.87-0.94).
+    // The surfaces the texels towards x show are the candidate occluders
+    // of every block. Cross's iterations after its restart shoot signed
     // changes and keep the centre's visibility (pc.near_blocks 0): with
     // the blocks', 10,000 frames of a sliding box settled 13% above the
     // power bound after frame 4000. Its restart, C's plain solve, sees
     // block by block (room 1's table sides at the floor 0.84 of the CPU
     // reference's without).
-    if (near_field && pc.near_blocks != 0u) {
+    bool blocks = pc.redistributed == 0u && pc.near_blocks != 0u &&
+                  (area * NEAR_BLOCKS_REACH2 > dot(d, d) ||
+                   shooting_straddles(x, ne, ce, surfaces[sh.surface], sh));
+    if (!shooting_faces(d, cs, ce, near || blocks))
+        return 0.0;
+    vec3 t = sh.tangent.xyz;
+    vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
+    uint cand[9];
+    if (blocks) {
         uint ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u,
                                          cand);
         return near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);

@@ -93,7 +93,22 @@ bool shooting_visible_at(utexture2DArray ids, uint res, bool neighbours, vec3 lo
             }
         }
     }
-    return found;
+    if (found || !occluders)
+        return found;
+    // x's surface nowhere among the texels: it may be seen so nearly
+    // edge-on that the hemicube drew it in no texel (a sliver thinner than
+    // a texel, which no neighbour check finds), or hidden. Where its
+    // projected thickness, sqrt(area) x cos / distance, is under a couple
+    // of texels, it is visible unless a candidate occluder blocks the
+    // segment (tested above): the side of a cabinet, in the plane of a
+    // small ceiling light's edge, took 0.84 of that light at 64 texels a
+    // side. Elsewhere the surface is drawn where it is seen, and its
+    // absence means it is hidden.
+    gpu_surface rs = SHOOTING_OCCLUDER(id - 1u, old);
+    vec3 d = x - o;
+    float r2 = dot(d, d);
+    float texels = sqrt(rs.normal_area.w) * abs(dot(d, rs.normal_area.xyz)) / r2 * 0.5 * float(res);
+    return texels < 2.0;
 }
 
 // shooting_visible_at with hemicubes of the current pose.
@@ -207,13 +222,22 @@ float shooting_disk(vec3 d, float cs, float ce, float area)
     return area * cs * ce / (r2 * (SHOOTING_PI * r2 + area));
 }
 
-// The exact form factor from x to elements [i0, i1] x [j0, j1] of sf.
-float shooting_cells(vec3 x, vec3 ne, gpu_surface sf, uint i0, uint i1, uint j0, uint j1)
+// The corners of elements [i0, i1] x [j0, j1] of sf.
+void shooting_cell_quad(gpu_surface sf, uint i0, uint i1, uint j0, uint j1, out vec3 q[4])
 {
     vec2 rs = shooting_param_range(i0, i1, sf.nu);
     vec2 rt = shooting_param_range(j0, j1, sf.nv);
-    vec3 q[4] = vec3[4](shooting_bilinear(sf, rs.x, rt.x), shooting_bilinear(sf, rs.y, rt.x),
-                        shooting_bilinear(sf, rs.y, rt.y), shooting_bilinear(sf, rs.x, rt.y));
+    q[0] = shooting_bilinear(sf, rs.x, rt.x);
+    q[1] = shooting_bilinear(sf, rs.y, rt.x);
+    q[2] = shooting_bilinear(sf, rs.y, rt.y);
+    q[3] = shooting_bilinear(sf, rs.x, rt.y);
+}
+
+// The exact form factor from x to elements [i0, i1] x [j0, j1] of sf.
+float shooting_cells(vec3 x, vec3 ne, gpu_surface sf, uint i0, uint i1, uint j0, uint j1)
+{
+    vec3 q[4];
+    shooting_cell_quad(sf, i0, i1, j0, j1, q);
     return shooting_point_to_quad(x, ne, q);
 }
 
@@ -222,28 +246,79 @@ float shooting_cells(vec3 x, vec3 ne, gpu_surface sf, uint i0, uint i1, uint j0,
 // visible_blocks).
 const uint SHOOTING_NEAR_BLOCKS = 8u;
 
-// Whether the block [i0, i1] x [j0, j1] of sf is hidden from x: the
-// segment from its centre to x crosses one of the candidate occluders
-// cand[0, ncand) (shooting_candidates), posed as the hemicube that named
-// them was drawn (SHOOTING_OCCLUDER).
-bool shooting_block_hidden(gpu_surface sf, uint i0, uint i1, uint j0, uint j1, vec3 x,
-                           uint cand[9], uint ncand)
+// Whether quad q is hidden from x (normal ne): the segment to x from the
+// middle of the quad's part in front of x's tangent plane crosses one of
+// the candidate occluders cand[0, ncand) (shooting_candidates), posed as
+// the hemicube that named them was drawn (SHOOTING_OCCLUDER). From the
+// part in front, not the quad's centre: a quad that the plane cuts lights
+// x from that part alone, and from a centre behind the plane the segment
+// to x runs through x's own object (a light cut by the plane of a floating
+// box's side lit its top rows at 0.87 of the CPU reference's).
+bool shooting_front_hidden(vec3 q[4], vec3 x, vec3 ne, uint cand[9], uint ncand)
 {
-    vec2 rs = shooting_param_range(i0, i1, sf.nu);
-    vec2 rt = shooting_param_range(j0, j1, sf.nv);
-    vec3 c = shooting_bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y));
+    vec3 c = vec3(0.0);
+    float count = 0.0;
+    for (int k = 0; k < 4; k++) {
+        vec3 a = q[k], b = q[(k + 1) & 3];
+        float da = dot(a - x, ne), db = dot(b - x, ne);
+        if (da > 0.0) {
+            c += a;
+            count += 1.0;
+        }
+        if ((da > 0.0) != (db > 0.0)) {
+            c += mix(a, b, da / (da - db));
+            count += 1.0;
+        }
+    }
+    c = count > 0.0 ? c / count : 0.25 * (q[0] + q[1] + q[2] + q[3]);
     for (uint m = 0u; m < ncand; m++)
         if (shooting_blocks(SHOOTING_OCCLUDER(cand[m], false), c, x))
             return true;
     return false;
 }
+
+// Whether the block [i0, i1] x [j0, j1] of sf is hidden from x (normal
+// ne), as shooting_front_hidden says.
+bool shooting_block_hidden(gpu_surface sf, uint i0, uint i1, uint j0, uint j1, vec3 x, vec3 ne,
+                           uint cand[9], uint ncand)
+{
+    vec3 q[4];
+    shooting_cell_quad(sf, i0, i1, j0, j1, q);
+    return shooting_front_hidden(q, x, ne, cand, ncand);
+}
+
+// Whether the tangent plane of x (normal ne) cuts through quad q of area
+// `area`, ce = -d . ne the distance of the quad's centre from the plane:
+// the centre may then lie behind the plane, where what it sees says
+// nothing of what the quad's part in front sees.
+bool shooting_quad_straddles(vec3 q[4], vec3 x, vec3 ne, float ce, float area)
+{
+    if (ce * ce >= area)
+        return false;
+    float lo = 3.4e38, hi = -3.4e38;
+    for (int k = 0; k < 4; k++) {
+        float h = dot(q[k] - x, ne);
+        lo = min(lo, h);
+        hi = max(hi, h);
+    }
+    float tol = 1e-4 * sqrt(area);
+    return lo < -tol && hi > tol;
+}
+
+// shooting_quad_straddles for patch sh of sf.
+bool shooting_straddles(vec3 x, vec3 ne, float ce, gpu_surface sf, gpu_shooter sh)
+{
+    if (ce * ce >= sh.pos_area.w)
+        return false;
+    vec3 q[4];
+    shooting_cell_quad(sf, sh.i0, sh.i1, sh.j0, sh.j1, q);
+    return shooting_quad_straddles(q, x, ne, ce, sh.pos_area.w);
+}
+
+// The exact form factor from x to patch sh of sf.
 float shooting_quad(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh)
 {
-    vec2 rs = shooting_param_range(sh.i0, sh.i1, sf.nu);
-    vec2 rt = shooting_param_range(sh.j0, sh.j1, sf.nv);
-    vec3 q[4] = vec3[4](shooting_bilinear(sf, rs.x, rt.x), shooting_bilinear(sf, rs.y, rt.x),
-                        shooting_bilinear(sf, rs.y, rt.y), shooting_bilinear(sf, rs.x, rt.y));
-    return shooting_point_to_quad(x, ne, q);
+    return shooting_cells(x, ne, sf, sh.i0, sh.i1, sh.j0, sh.j1);
 }
 
 #endif
