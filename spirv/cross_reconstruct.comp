@@ -252,7 +252,7 @@ vec3 lit_direct(vec3 x, vec3 ne, uint id)
         // A light patch cut by x's tangent plane lights x from its part in
         // front, which its centre, behind the plane, may not see (the
         // segment runs through x's own object): visible unless a surface
-        // the texels towards x show lies between that part and x, and the
+        // lies between that part and x (SHOOTING_EVERY_SURFACE), and the
         // exact form factor of that part (spirv/shooting.glsl). A floating
         // box's side in the plane of a ceiling light's edge took 0.89 of
         // its light without.
@@ -261,8 +261,7 @@ vec3 lit_direct(vec3 x, vec3 ne, uint id)
             if (!shooting_faces(d, dot(d, f.normal.xyz), -dot(d, ne), true))
                 continue;
             uint cand[9];
-            uint nc = shooting_candidates(light_ids, pc.hemicube_res, basis(f) * d, l, id, cand);
-            if (!shooting_front_hidden(q, x, ne, cand, nc))
+            if (!shooting_front_hidden(q, x, ne, cand, SHOOTING_EVERY_SURFACE))
                 sum += shooting_point_to_quad(x, ne, q) * emission;
             continue;
         }

@@ -208,17 +208,22 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // power bound after frame 4000. Its restart, C's plain solve, sees
     // block by block (room 1's table sides at the floor 0.84 of the CPU
     // reference's without).
-    bool blocks = pc.redistributed == 0u && pc.near_blocks != 0u &&
-                  (area * NEAR_BLOCKS_REACH2 > dot(d, d) ||
-                   shooting_straddles(x, ne, ce, surfaces[sh.surface], sh));
+    bool cut = pc.redistributed == 0u && pc.near_blocks != 0u &&
+               !(area * NEAR_BLOCKS_REACH2 > dot(d, d)) &&
+               shooting_straddles(x, ne, ce, surfaces[sh.surface], sh);
+    bool blocks = cut || (pc.redistributed == 0u && pc.near_blocks != 0u &&
+                          area * NEAR_BLOCKS_REACH2 > dot(d, d));
     if (!shooting_faces(d, cs, ce, near || blocks))
         return 0.0;
     vec3 t = sh.tangent.xyz;
     vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
     uint cand[9];
     if (blocks) {
-        uint ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u,
-                                         cand);
+        // Cut by x's plane beyond the blocks' reach, every surface is a
+        // candidate occluder (SHOOTING_EVERY_SURFACE says why).
+        uint ncand = cut ? SHOOTING_EVERY_SURFACE
+                         : shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube,
+                                               se + 1u, cand);
         return near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
     }
     if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
