@@ -208,11 +208,11 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // power bound after frame 4000. Its restart, C's plain solve, sees
     // block by block (room 1's table sides at the floor 0.84 of the CPU
     // reference's without).
-    bool cut = pc.redistributed == 0u && pc.near_blocks != 0u &&
-               !(area * NEAR_BLOCKS_REACH2 > dot(d, d)) &&
+    // (pc.near_blocks is 0 where pc.redistributed is 1, reconstruct.c.)
+    bool within = pc.near_blocks != 0u && area * NEAR_BLOCKS_REACH2 > dot(d, d);
+    bool cut = pc.near_blocks != 0u && !within &&
                shooting_straddles(x, ne, ce, surfaces[sh.surface], sh);
-    bool blocks = cut || (pc.redistributed == 0u && pc.near_blocks != 0u &&
-                          area * NEAR_BLOCKS_REACH2 > dot(d, d));
+    bool blocks = within || cut;
     if (!shooting_faces(d, cs, ce, near || blocks))
         return 0.0;
     vec3 t = sh.tangent.xyz;

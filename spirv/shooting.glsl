@@ -113,17 +113,17 @@ bool shooting_visible_at(utexture2DArray ids, uint res, bool neighbours, vec3 lo
     // absence means it is hidden. Only where a surface the texels show
     // lies on the line beyond x, as behind a sliver in view: where they
     // show only surfaces that the segment misses, the one that hides x may
-    // be one no texel shows (a room lit at 1e6 W/m^2 lit its dim
-    // neighbour through a wall hidden behind a box). Not within two texels of the shooter's
-    // horizon (local.z, the shooter's cosine, times the distance): there a
-    // surface resting on the shooter's plane lies too, such as a box's
-    // bottom 0.1 mm above the floor, which the contact rule keeps dark and
-    // no occluder hides from a floor patch beside it.
+    // be one no texel shows (a room lit at 1e6 W/m^2 lit its dim neighbour
+    // through a wall hidden behind a box). Not within two texels of the
+    // shooter's horizon (local.z, the shooter's cosine, times the
+    // distance): there a surface resting on the shooter's plane lies too,
+    // such as a box's bottom 0.1 mm above the floor, which the contact rule
+    // keeps dark and no occluder hides from a floor patch beside it.
     gpu_surface rs = SHOOTING_OCCLUDER(id - 1u, old);
     vec3 d = x - o;
-    float r2 = dot(d, d), r = sqrt(r2);
+    float r2 = dot(d, d);
     float texels = sqrt(rs.normal_area.w) * abs(dot(d, rs.normal_area.xyz)) / r2 * 0.5 * float(res);
-    return beyond && texels < 2.0 && local.z > 4.0 / float(res) * r;
+    return beyond && texels < 2.0 && local.z > 4.0 / float(res) * sqrt(r2);
 }
 
 // shooting_visible_at with hemicubes of the current pose.
@@ -295,14 +295,10 @@ bool shooting_front_hidden(vec3 q[4], vec3 x, vec3 ne, uint cand[9], uint ncand)
         }
     }
     c = count > 0.0 ? c / count : 0.25 * (q[0] + q[1] + q[2] + q[3]);
-    if (ncand == SHOOTING_EVERY_SURFACE) {
-        for (uint m = 0u; m < uint(surfaces.length()); m++)
-            if (shooting_blocks(SHOOTING_OCCLUDER(m, false), c, x))
-                return true;
-        return false;
-    }
-    for (uint m = 0u; m < ncand; m++)
-        if (shooting_blocks(SHOOTING_OCCLUDER(cand[m], false), c, x))
+    bool every = ncand == SHOOTING_EVERY_SURFACE;
+    uint count_m = every ? uint(surfaces.length()) : ncand;
+    for (uint m = 0u; m < count_m; m++)
+        if (shooting_blocks(SHOOTING_OCCLUDER(every ? m : cand[m], false), c, x))
             return true;
     return false;
 }
