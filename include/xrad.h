@@ -239,9 +239,10 @@ typedef struct xrad_solver_desc {
     uint32_t hemicube_res;   /* pixels per hemicube face side, even, 8..1024; default 64 */
     uint32_t msaa;           /* samples of radiosity hemicubes (gather): 1 or 4; default 4 */
     uint32_t bounces;        /* gather: Jacobi bounces; default 0 = until converged (threshold) */
-    double threshold;        /* stop when the largest unshot power (progressive) or the largest
-                                change of a bounce (gather), relative to the emitted power,
-                                is below this; default 1e-4 */
+    double threshold;        /* stop when the largest unshot power (progressive) or the light
+                                the bounces still to come would add (gather: the last bounce's
+                                power x r / (1 - r), r its ratio to the one before), relative
+                                to the emitted power, is below this; default 1e-4 */
     uint32_t batch;          /* progressive: shots recorded per submission (one host wait per
                                 batch); default 32 */
     uint32_t max_patches;    /* progressive: most shooting patches along a side of a surface

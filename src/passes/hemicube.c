@@ -25,7 +25,6 @@ struct hemicube_pass {
     hemicube_path path; /* resolved: MULTIVIEW or LAYERED */
     hemicube_check_result check;
     float near, hair;
-    bool shader_bilinear;
 
     VkRenderPass render_pass;
     VkDescriptorSetLayout set_layout;
@@ -114,15 +113,12 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
         (s = gpu_descriptor_set_allocate(ctx, p->pool, p->set_layout, &p->set, err)))
         return s;
     if (rad) {
-        VkFormatProperties fp;
-        vkGetPhysicalDeviceFormatProperties(ctx->phys, VK_FORMAT_R32G32B32A32_SFLOAT, &fp);
-        p->shader_bilinear =
-            !(fp.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT);
-        VkFilter filter = p->shader_bilinear ? VK_FILTER_NEAREST : VK_FILTER_LINEAR;
+        /* The fragment stage reads element cells with texelFetch
+         * (hemicube_radiosity.frag): no filtering. */
         VkSamplerCreateInfo si = {
             .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
-            .magFilter = filter,
-            .minFilter = filter,
+            .magFilter = VK_FILTER_NEAREST,
+            .minFilter = VK_FILTER_NEAREST,
             .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
             .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
             .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
@@ -143,16 +139,12 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
         {HEMICUBE_ATTR_NORMAL, 0, VK_FORMAT_R32G32B32A32_SFLOAT,
          offsetof(gpu_scene_vertex, normal)},
     };
-    uint32_t bilinear = p->shader_bilinear ? 1u : 0u;
-    VkSpecializationMapEntry entry = {0, 0, sizeof(uint32_t)};
-    VkSpecializationInfo spec = {1, &entry, sizeof(bilinear), &bilinear};
     bool mv = p->path == HEMICUBE_PATH_MULTIVIEW;
     gpu_graphics_desc gd = {
         .vert = mv ? hemicube_multiview_vert_spv : hemicube_layered_vert_spv,
         .vert_bytes = mv ? sizeof(hemicube_multiview_vert_spv) : sizeof(hemicube_layered_vert_spv),
         .frag = rad ? hemicube_radiosity_frag_spv : hemicube_ids_frag_spv,
         .frag_bytes = rad ? sizeof(hemicube_radiosity_frag_spv) : sizeof(hemicube_ids_frag_spv),
-        .frag_spec = rad ? &spec : NULL,
         .bindings = &vb,
         .binding_count = 1,
         .attributes = attrs,

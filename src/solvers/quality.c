@@ -47,8 +47,8 @@ static const setting settings[] = {
       XRAD_SETTING_INTEGER, 8, 1, 64, NULL},
      SOLVER(max_patches), RULE_NONE},
     {{"threshold",
-      "stop when the largest unshot power (or bounce change) relative to the emitted power is "
-      "below this",
+      "stop when the largest unshot power (gather: the light the bounces still to come would "
+      "add) relative to the emitted power is below this",
       XRAD_SETTING_REAL, 1e-4, 0, 0.5, NULL},
      SOLVER(threshold), RULE_OPEN_LOW},
     {{"batch", "progressive shots per submission (one host wait each)", XRAD_SETTING_INTEGER,

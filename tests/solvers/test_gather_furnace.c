@@ -2,13 +2,17 @@
  * Gather solver in the furnace (ground-truth.md): inside a closed box of
  * albedo rho emitting E everywhere, Jacobi bounce k gives exactly
  * B_k = E (1 + rho + ... + rho^k) = E (1 - rho^(k+1)) / (1 - rho), since
- * every hemicube sees the box's uniform B_(k-1) over a delta form factor
- * table that sums to 1; converged, B = E / (1 - rho). With rho = 0.9, E = 1:
- *  - bounces = 5: every element 4.68559 within 1e-3, 5 bounces, 5 x
- *    elements hemicubes;
- *  - to convergence (threshold 1e-4): every element 10 within 1e-2 (issue
- *    3), the bounce count about log(threshold) / log(rho), the residual
- *    below the threshold.
+ * the direct light of every element is E (the box's form factors sum to
+ * 1) and every hemicube sees the box's uniform B_(k-1) - E over a delta
+ * form factor table that sums to 1; converged, B = E / (1 - rho). With
+ * rho = 0.9, E = 1:
+ *  - bounces = 5: every element 4.68559 within 1e-3, 5 bounces, 4 x
+ *    elements hemicubes (the first bounce is the direct pass's);
+ *  - to convergence (threshold 1e-4): bounce K adds power rho^K x the
+ *    emitted and the bounces after it rho^K rho / (1 - rho), below 1e-4
+ *    from K = 109 on (sooner where fp16 rounding stops the change first);
+ *    the geometric rest then added makes every element 10 within 1e-3,
+ *    the residual below the threshold.
  * A zero-emission scene stops after one bounce with B = 0.
  */
 #include <stdio.h>
@@ -62,7 +66,7 @@ static double solve_box(xrad_context *ctx, double e, uint32_t bounces, double wa
                 worst = fmax(worst, want > 0 ? fabs(px[c] - want) / want : fabs(px[c]));
         }
         CHECK(texels == info.elements, "%u texels for %u elements", texels, info.elements);
-        CHECK(stats->hemicubes == stats->iterations * info.elements,
+        CHECK(stats->hemicubes == (stats->iterations - 1) * info.elements,
               "%u hemicubes for %u bounces of %u elements", stats->hemicubes, stats->iterations,
               info.elements);
         fprintf(stderr,
@@ -88,10 +92,13 @@ int main(void)
     CHECK(st.iterations == 5, "%u bounces, asked 5", st.iterations);
 
     w = solve_box(ctx, 1, 0, 10, &st);
-    CHECK(w >= 0 && w < 1e-2, "converged: worst relative error %g", w);
+    CHECK(w >= 0 && w < 1e-3, "converged: worst relative error %g", w);
     CHECK(st.residual < 1e-4, "residual %g", st.residual);
-    /* The change of bounce k is rho^k E: below 1e-4 from k = 88 on. */
-    CHECK(st.iterations >= 80 && st.iterations <= 95, "%u bounces", st.iterations);
+    /* 109 in exact arithmetic; the hemicubes hold B - E in fp16, whose
+     * rounding ends the changes' decay sooner once rho^K drops under its
+     * step (measured: 105). */
+    CHECK(st.iterations >= 60 && st.iterations <= 109, "%u bounces, at most 109 expected",
+          st.iterations);
 
     w = solve_box(ctx, 0, 0, 0, &st);
     CHECK(w == 0, "dark box: largest B %g", w);

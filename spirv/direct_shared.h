@@ -1,0 +1,29 @@
+/*
+ * Direct light pass layouts shared by C (src/passes/direct.c) and GLSL
+ * (spirv/direct.comp). Same rules as shared.h.
+ */
+#ifndef XRAD_SPIRV_DIRECT_SHARED_H
+#define XRAD_SPIRV_DIRECT_SHARED_H
+
+#include "shared.h"
+
+#define DIRECT_BINDING_SURFACES 0  /* struct gpu_surface[]: the scene at the frames' pose */
+#define DIRECT_BINDING_MATERIALS 1 /* struct gpu_material[] */
+#define DIRECT_BINDING_FRAMES 2    /* struct gpu_shooter[]: receiver point and normal */
+#define DIRECT_BINDING_LIGHTS 3    /* uint[]: indices of the emitting surfaces */
+#define DIRECT_BINDING_OUT 4       /* vec4[]: sum over lights of F x E, one per frame */
+
+#define DIRECT_GROUP 64u
+/* Most blocks along a light's side: a light is split into up to 8 x 8
+ * blocks, each with its exact form factor and its own visibility. */
+#define DIRECT_MAX_BLOCKS 8u
+/* Parts per side of a block in a penumbra (direct.comp). */
+#define DIRECT_SPLIT 4u
+
+struct direct_push {
+    uint count;       /* frames */
+    uint light_count; /* entries of lights[] */
+    uint pad0, pad1;
+};
+
+#endif
