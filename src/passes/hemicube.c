@@ -25,6 +25,7 @@ struct hemicube_pass {
     hemicube_path path; /* resolved: MULTIVIEW or LAYERED */
     hemicube_check_result check;
     float near, hair;
+    bool shader_bilinear;
 
     VkRenderPass render_pass;
     VkDescriptorSetLayout set_layout;
@@ -113,12 +114,15 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
         (s = gpu_descriptor_set_allocate(ctx, p->pool, p->set_layout, &p->set, err)))
         return s;
     if (rad) {
-        /* The fragment stage reads element cells with texelFetch
-         * (hemicube_radiosity.frag): no filtering. */
+        VkFormatProperties fp;
+        vkGetPhysicalDeviceFormatProperties(ctx->phys, VK_FORMAT_R32G32B32A32_SFLOAT, &fp);
+        p->shader_bilinear =
+            !(fp.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT);
+        VkFilter filter = p->shader_bilinear ? VK_FILTER_NEAREST : VK_FILTER_LINEAR;
         VkSamplerCreateInfo si = {
             .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
-            .magFilter = VK_FILTER_NEAREST,
-            .minFilter = VK_FILTER_NEAREST,
+            .magFilter = filter,
+            .minFilter = filter,
             .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
             .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
             .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
@@ -139,12 +143,17 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
         {HEMICUBE_ATTR_NORMAL, 0, VK_FORMAT_R32G32B32A32_SFLOAT,
          offsetof(gpu_scene_vertex, normal)},
     };
+    const uint32_t consts[2] = {p->shader_bilinear ? 1u : 0u, p->desc.cells ? 1u : 0u};
+    const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(uint32_t)},
+                                                 {1, sizeof(uint32_t), sizeof(uint32_t)}};
+    VkSpecializationInfo spec = {2, entries, sizeof(consts), consts};
     bool mv = p->path == HEMICUBE_PATH_MULTIVIEW;
     gpu_graphics_desc gd = {
         .vert = mv ? hemicube_multiview_vert_spv : hemicube_layered_vert_spv,
         .vert_bytes = mv ? sizeof(hemicube_multiview_vert_spv) : sizeof(hemicube_layered_vert_spv),
         .frag = rad ? hemicube_radiosity_frag_spv : hemicube_ids_frag_spv,
         .frag_bytes = rad ? sizeof(hemicube_radiosity_frag_spv) : sizeof(hemicube_ids_frag_spv),
+        .frag_spec = rad ? &spec : NULL,
         .bindings = &vb,
         .binding_count = 1,
         .attributes = attrs,

@@ -107,6 +107,8 @@ typedef struct hemicube_desc {
     hemicube_path path;
     double diameter;        /* m, scene size: near plane and origin offset scale with it; > 0 */
     bool fp32;              /* radiosity: RGBA32F texels instead of RGBA16F */
+    bool cells;             /* radiosity: each element's cell value (hemicube_radiosity.frag)
+                               instead of bilinear between element samples */
     bool redistribution;    /* images count as GPU_MEM_REDISTRIBUTION, not render targets */
 } hemicube_desc;
 

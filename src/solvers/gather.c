@@ -39,8 +39,8 @@
  * The hemicubes hold (B - E) x scale in fp16, scale = 1 / its largest
  * value in the bounce, so that any light stays inside fp16's range, and
  * the lamps' emission no longer sets the scale of the dim rest; integrate
- * divides it out. After the solve B is in gs.B and the atlas, and Bu is 0: a gathered
- * solution has nothing left to shoot.
+ * divides it out. After the solve B is in gs.B and the atlas, and Bu is 0:
+ * a gathered solution has nothing left to shoot.
  */
 #include <math.h>
 #include <stddef.h>
@@ -144,7 +144,6 @@ static vec3 bilinear(const vec3 c[4], double u, double v)
     return v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
 }
 
-/* One frame per element: cell centroid, surface normal, rotated u edge. */
 /* g->D: the direct light at each frame, from the direct pass through the
  * sums buffer (free between bounces). */
 static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
@@ -187,6 +186,8 @@ static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
     return XRAD_OK;
 }
 
+/* One frame per element: cell centroid, surface normal, rotated u edge;
+ * then the direct light at them. */
 static xrad_status build_frames(xrad_solver *s, gather *g, xrad_error *err)
 {
     const xrad_scene *scene = s->scene;
@@ -269,6 +270,7 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         .path = HEMICUBE_PATH_AUTO,
         .diameter = s->gs.diameter > 0 ? s->gs.diameter : 1.0,
         .fp32 = s->desc.radiosity_format == XRAD_RADIOSITY_FP32,
+        .cells = true,
     };
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT |
