@@ -32,10 +32,8 @@ layout(std430, binding = DIRECT_BINDING_OUT) writeonly buffer Out { vec4 direct[
 // count).
 bool seen(vec3 p, vec3 x)
 {
-    for (uint m = 0u; m < uint(surfaces.length()); m++)
-        if (shooting_blocks(surfaces[m], p, x))
-            return false;
-    return true;
+    uint none[9];
+    return !shooting_segment_hidden(p, x, none, SHOOTING_EVERY_SURFACE);
 }
 
 // The light block [s0, s1] x [t0, t1] of sf, seen from x (normal ne): its

@@ -270,6 +270,19 @@ const uint SHOOTING_NEAR_BLOCKS = 8u;
 // emission range).
 const uint SHOOTING_EVERY_SURFACE = 0xffffffffu;
 
+// Whether the segment from c to x crosses one of the candidate occluders
+// cand[0, ncand), or any surface where ncand is SHOOTING_EVERY_SURFACE,
+// posed as the hemicube that named them was drawn (SHOOTING_OCCLUDER).
+bool shooting_segment_hidden(vec3 c, vec3 x, uint cand[9], uint ncand)
+{
+    bool every = ncand == SHOOTING_EVERY_SURFACE;
+    uint count_m = every ? uint(surfaces.length()) : ncand;
+    for (uint m = 0u; m < count_m; m++)
+        if (shooting_blocks(SHOOTING_OCCLUDER(every ? m : cand[m], false), c, x))
+            return true;
+    return false;
+}
+
 // Whether quad q is hidden from x (normal ne): the segment to x from the
 // middle of the quad's part in front of x's tangent plane crosses one of
 // the candidate occluders cand[0, ncand) (shooting_candidates), posed as
@@ -295,12 +308,7 @@ bool shooting_front_hidden(vec3 q[4], vec3 x, vec3 ne, uint cand[9], uint ncand)
         }
     }
     c = count > 0.0 ? c / count : 0.25 * (q[0] + q[1] + q[2] + q[3]);
-    bool every = ncand == SHOOTING_EVERY_SURFACE;
-    uint count_m = every ? uint(surfaces.length()) : ncand;
-    for (uint m = 0u; m < count_m; m++)
-        if (shooting_blocks(SHOOTING_OCCLUDER(every ? m : cand[m], false), c, x))
-            return true;
-    return false;
+    return shooting_segment_hidden(c, x, cand, ncand);
 }
 
 // Whether the block [i0, i1] x [j0, j1] of sf is hidden from x (normal
