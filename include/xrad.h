@@ -42,7 +42,9 @@ typedef struct xrad_error {
 
 typedef struct xrad_scene xrad_scene;
 
-/* Parses, validates and builds a scene file (format: scenes/README.md).
+/* Parses, validates and builds a scene file (format: scenes/README.md):
+ * a JSON scene, or a model file (.gltf, .glb, .obj, .ply) as a scene by
+ * itself.
  * On success *out owns the scene; release it with xrad_scene_destroy. */
 xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err);
 
@@ -50,6 +52,9 @@ typedef struct xrad_scene_load_desc {
     /* Every element density in the file times this; 0: the file's own
      * quality.density_scale, else 1. */
     double density_scale;
+    /* A model file's camera by name; NULL: its first (or, without one,
+     * the whole scene from -z). */
+    const char *camera;
 } xrad_scene_load_desc;
 
 /* xrad_scene_load with options; desc may be NULL. */
@@ -66,6 +71,126 @@ xrad_status xrad_scene_parse_with(const char *json, size_t len, const char *name
 /* Accepts NULL and *scene == NULL; sets *scene to NULL. */
 void xrad_scene_destroy(xrad_scene **scene);
 
+/* What loading noticed and left out (a model file's textures, metalness,
+ * skins, ...: scenes/README.md "Model files"), one line each, valid while
+ * the scene lives; NULL past the count. */
+uint32_t xrad_scene_warning_count(const xrad_scene *scene);
+const char *xrad_scene_warning(const xrad_scene *scene, uint32_t index);
+
+/* ---------------------------------------------------------- scene builder */
+
+/* Builds a scene from arrays, as the scene-file loader does (the loader is
+ * written on top of it): materials, then objects, each followed by its
+ * quads and triangle meshes, then xrad_scene_builder_finish. Every call
+ * validates what it is given and names the builder, the object, the
+ * surface and the field in its message; after a failed call the builder
+ * can only be destroyed. */
+typedef struct xrad_scene_builder xrad_scene_builder;
+
+typedef struct xrad_scene_builder_desc {
+    const char *name;     /* stands for the file in messages; default "<builder>" */
+    double density;       /* default elements per metre [20] */
+    double density_scale; /* every density given (and the default) times this [1] */
+} xrad_scene_builder_desc;
+
+/* desc may be NULL. */
+xrad_status xrad_scene_builder_create(const xrad_scene_builder_desc *desc,
+                                      xrad_scene_builder **out, xrad_error *err);
+
+/* Accepts NULL and *builder == NULL; sets *builder to NULL. */
+void xrad_scene_builder_destroy(xrad_scene_builder **builder);
+
+typedef struct xrad_material_desc {
+    const char *name;   /* unique among the materials */
+    double albedo[3];   /* each channel in [0, 1) */
+    double emission[3]; /* W/m^2 radiant exitance, each channel >= 0 */
+} xrad_material_desc;
+
+/* *index (may be NULL) receives the material's index for the surfaces. */
+xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_material_desc *m,
+                                            uint32_t *index, xrad_error *err);
+
+typedef struct xrad_keyframe {
+    double time;         /* s, >= 0, strictly increasing */
+    double translate[3]; /* m, added to the object's base translation */
+} xrad_keyframe;
+
+/* Motion of a dynamic object (scenes/README.md "animation"): a spin about
+ * an axis through a pivot, then a piecewise linear translation. */
+typedef struct xrad_animation_desc {
+    int rotates;               /* spin about axis through pivot at degrees_per_second */
+    double axis[3];            /* non-zero */
+    double pivot[3];           /* m, object space */
+    double degrees_per_second;
+    const xrad_keyframe *keyframes; /* copied; may be NULL with keyframe_count 0 */
+    uint32_t keyframe_count;
+    int once;                  /* keyframes play once (else they repeat) */
+} xrad_animation_desc;
+
+typedef struct xrad_object_desc {
+    const char *name;         /* unique among the objects */
+    int dynamic;              /* moves (set M of the thesis); else static */
+    double translate[3];      /* m: object space -> world is translate * rotate */
+    double rotate_axis[3];    /* used where rotate_degrees is not 0 */
+    double rotate_degrees;
+    double density;           /* elements per metre; 0: the scene's */
+    double cross_density;     /* dynamic only: the cross method's shooters; 0: none */
+    const xrad_animation_desc *animation; /* dynamic only; NULL: none */
+} xrad_object_desc;
+
+/* Starts an object; the quads and meshes added after it belong to it. */
+xrad_status xrad_scene_builder_begin_object(xrad_scene_builder *b, const xrad_object_desc *o,
+                                            xrad_error *err);
+
+typedef struct xrad_quad_desc {
+    const char *name;     /* unique within the object */
+    uint32_t material;    /* xrad_scene_builder_add_material's index */
+    double p[4][3];       /* m, object space: a planar convex quad, counter-clockwise
+                             seen from its front (emitting, receiving) side */
+    double density;       /* elements per metre; 0: the object's */
+    uint32_t samples[2];  /* element samples along p0p1 and p0p3 (each >= 2); 0 0: from
+                             the density */
+} xrad_quad_desc;
+
+xrad_status xrad_scene_builder_add_quad(xrad_scene_builder *b, const xrad_quad_desc *q,
+                                        xrad_error *err);
+
+typedef struct xrad_mesh_desc {
+    const char *name;          /* its surfaces are named NAME.0, NAME.1, ... */
+    const float *positions;    /* 3 per vertex, m, object space */
+    uint32_t vertex_count;
+    const uint32_t *indices;   /* 3 per triangle, counter-clockwise seen from the front */
+    uint32_t triangle_count;
+    const uint32_t *materials; /* one per triangle; NULL: `material` for all */
+    uint32_t material;
+    double density;            /* elements per metre; 0: the object's */
+    int keep_triangles;        /* do not join coplanar triangle pairs into quads */
+} xrad_mesh_desc;
+
+/* Adds a triangle mesh to the current object. Two triangles that share an
+ * edge, a plane (within 1e-6 of their size) and a material and form a
+ * convex quad become one quad surface (one chart of the atlas; a quad
+ * split in two comes back whole); every other triangle is a surface of
+ * its own. Triangles of zero area are skipped and counted in the scene's
+ * info. */
+xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_desc *m,
+                                        xrad_error *err);
+
+typedef struct xrad_camera_desc {
+    double position[3], look_at[3]; /* m, world */
+    double up[3];                   /* default (0, 1, 0) */
+    double fov_degrees;             /* vertical; default 45 */
+    uint32_t width, height;         /* default image size; default 512 x 512 */
+} xrad_camera_desc;
+
+/* Without it the camera looks along +z at the whole scene. */
+xrad_status xrad_scene_builder_set_camera(xrad_scene_builder *b, const xrad_camera_desc *c,
+                                          xrad_error *err);
+
+/* Checks names, samples the elements and packs the atlas. On success *out
+ * owns the scene and the builder is left empty (destroy it). */
+xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, xrad_error *err);
+
 typedef struct xrad_scene_info {
     uint32_t objects, dynamic_objects;
     uint32_t surfaces, materials;
@@ -75,6 +200,8 @@ typedef struct xrad_scene_info {
     size_t cpu_bytes;                   /* host memory the scene holds */
     uint32_t planarised;                /* surfaces projected onto their best-fit plane */
     double planarise_max_offset;        /* m, largest vertex move that took */
+    uint32_t triangles;                 /* surfaces that are triangles (the rest are quads) */
+    uint32_t skipped_triangles;         /* zero-area mesh triangles left out */
 } xrad_scene_info;
 
 void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info);
@@ -94,8 +221,10 @@ typedef struct xrad_surface_info {
     const char *name;            /* valid while the scene lives */
     uint32_t object;             /* index of its object */
     uint32_t nu, nv;             /* element samples along its u and v edges */
-    double length_u, length_v;   /* m, the u edge (p1 - p0) and v edge (p3 - p0) */
+    double length_u, length_v;   /* m, the u edge (p1 - p0) and v edge (p3 - p0); a
+                                    triangle's u edge is its longest, v the next from p0 */
     double area;                 /* m^2 */
+    int triangle;                /* 1: a triangle (mesh), 0: a quad */
 } xrad_surface_info;
 
 /* Surface `index` (0 .. info.surfaces - 1); XRAD_ERROR_INPUT out of range. */

@@ -93,7 +93,11 @@ int cmd_info(int argc, char **argv)
     double atlas_bytes = (double)in.atlas_width * in.atlas_height * 16.0 * 2.0;
     printf("scene       %s\n", a.positional[0]);
     printf("objects     %u (%u dynamic)\n", in.objects, in.dynamic_objects);
-    printf("surfaces    %u\n", in.surfaces);
+    if (in.triangles || in.skipped_triangles)
+        printf("surfaces    %u (%u quads, %u triangles; %u zero-area triangles left out)\n",
+               in.surfaces, in.surfaces - in.triangles, in.triangles, in.skipped_triangles);
+    else
+        printf("surfaces    %u\n", in.surfaces);
     printf("materials   %u\n", in.materials);
     printf("elements    %u (static %u, dynamic %u)\n", in.elements, in.static_elements,
            in.dynamic_elements);

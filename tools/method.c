@@ -122,7 +122,8 @@ void method_print_options(void)
         printf("  %-21s ", opt);
         print_wrapped(text);
     }
-    printf("  --bounces N           gather: fixed bounce count [0 = until --threshold]\n"
+    printf("  --camera NAME         a model file's (.gltf, .glb) camera by name [its first]\n"
+           "  --bounces N           gather: fixed bounce count [0 = until --threshold]\n"
            "  --seed N              GPU: hemicube rotation seed [0]\n"
            "  --back-nearest        cross: nearest back hemicube samples (default bilinear)\n"
            "  --slice N             cross: elements per submission of the cross projection\n"
@@ -147,6 +148,8 @@ int method_solver_option(cli_args *a, const char *opt, method_settings *m)
     char name[48];
     if (!strcmp(opt, "preset")) {
         m->preset = cli_value(a);
+    } else if (!strcmp(opt, "camera")) {
+        m->camera = cli_value(a);
     } else if (setting_name(opt, name, sizeof(name))) {
         const char *v = cli_value(a);
         if (!v)
@@ -207,9 +210,12 @@ xrad_status method_load_scene(const char *path, method_settings *m, xrad_scene *
     xrad_status st = command_line_quality(m, &cli, err);
     if (st)
         return st;
-    xrad_scene_load_desc ld = {.density_scale = cli.density_scale};
+    xrad_scene_load_desc ld = {.density_scale = cli.density_scale, .camera = m->camera};
     if ((st = xrad_scene_load_with(path, &ld, out, err)))
         return st;
+    /* What the file has that xrad leaves out, never silently. */
+    for (uint32_t k = 0; k < xrad_scene_warning_count(*out); k++)
+        fprintf(stderr, "xrad: warning: %s\n", xrad_scene_warning(*out, k));
     xrad_quality q = {.solver = m->solver};
     xrad_scene_get_quality(*out, &q);
     if (!(st = command_line_quality(m, &q, err)) && !(st = xrad_quality_resolve(&q, err))) {

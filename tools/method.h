@@ -19,6 +19,7 @@ typedef struct method_settings {
     const char *override_name[METHOD_MAX_OVERRIDES]; /* setting names (underscores) */
     const char *override_value[METHOD_MAX_OVERRIDES];
     char override_names[METHOD_MAX_OVERRIDES][48];
+    const char *camera; /* --camera: a model file's camera by name */
     /* Set by method_load_scene: every quality setting as resolved. */
     xrad_quality resolved;
 } method_settings;

@@ -138,7 +138,7 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
     VkVertexInputAttributeDescription attrs[5] = {
         {HEMICUBE_ATTR_POS, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(gpu_scene_vertex, pos)},
         {HEMICUBE_ATTR_SURFACE, 0, VK_FORMAT_R32_UINT, offsetof(gpu_scene_vertex, surface)},
-        {HEMICUBE_ATTR_UV, 0, VK_FORMAT_R32G32_SFLOAT, offsetof(gpu_scene_vertex, uv)},
+        {HEMICUBE_ATTR_UV, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(gpu_scene_vertex, uvw)},
         {HEMICUBE_ATTR_TILE, 0, VK_FORMAT_R32G32B32A32_SFLOAT, offsetof(gpu_scene_vertex, tile)},
         {HEMICUBE_ATTR_NORMAL, 0, VK_FORMAT_R32G32B32A32_SFLOAT,
          offsetof(gpu_scene_vertex, normal)},

@@ -11,6 +11,14 @@
  * surface within half a sample spacing of its sample (clipped to the
  * surface): edge elements carry half, corner elements a quarter of an inner
  * element's area, and the areas of a surface sum to its area.
+ *
+ * A triangle is the quad collapsed at its apex, p[3] == p[2] (a Duffy
+ * map): s runs along its longest edge p0 p1, t towards the apex. Its tile
+ * is nu x nv texels like a quad's, every texel an element (the cells of
+ * the apex row are thin slivers), so the bilinear display finds a value
+ * in every texel it reads and no gap needs filling (Wallner 3.1 fills the
+ * texels a rasterised triangle leaves out). The areas are exact: the
+ * Jacobian is linear in t, constant in s.
  */
 #ifndef XRAD_SCENE_H
 #define XRAD_SCENE_H
@@ -64,6 +72,7 @@ typedef struct object {
     /* Elements the object would have at cross_density (same counting rule
      * as its own elements); 0 when cross_density is 0. */
     uint32_t cross_element_count;
+    double density; /* elements per metre its surfaces default to */
     /* m, world: added to the pose at every time (xrad_scene_set_offset: an
      * application moving the object by hand); zero from the file. */
     vec3 offset;
@@ -90,6 +99,7 @@ typedef struct surface {
      * when it was planar). The display pass draws the file's vertices so
      * that a planarised quad still meets its neighbours (display.c). */
     double planarise_dist[4];
+    bool triangle; /* p[3] == p[2], the apex (see the top of this file) */
 } surface;
 
 /* Elements are stored surface by surface, object by object, row-major
@@ -134,6 +144,9 @@ struct xrad_scene {
     char quality_name[SCENE_MAX_QUALITY][48];
     char quality_value[SCENE_MAX_QUALITY][64];
     double density_scale; /* what the densities were multiplied by */
+    uint32_t skipped_triangles; /* zero-area mesh triangles left out */
+    uint32_t warning_count;
+    char **warnings; /* xrad_scene_warning */
 };
 
 /* The bilinear parametrisation of a surface, object space. */

@@ -110,6 +110,40 @@ bool scene_quad_setup(surface *s, const vec3 in[4], char *why, size_t why_len)
     return true;
 }
 
+bool scene_triangle_setup(surface *s, const vec3 in[3], char *why, size_t why_len)
+{
+    double len[3];
+    int base = 0;
+    for (int k = 0; k < 3; k++) {
+        len[k] = v3_len(v3_sub(in[(k + 1) % 3], in[k]));
+        if (!isfinite(len[k])) {
+            snprintf(why, why_len, "coordinates too large");
+            return false;
+        }
+        if (len[k] > len[base])
+            base = k;
+    }
+    /* The longest edge is the base: the apex row is then as short as it
+     * gets, and the cyclic order (the front side) is kept. */
+    vec3 p0 = in[base], p1 = in[(base + 1) % 3], apex = in[(base + 2) % 3];
+    vec3 n = v3_cross(v3_sub(p1, p0), v3_sub(apex, p0));
+    double nl = v3_len(n);
+    if (!(len[base] > 0) || !(nl > DEGENERATE_EPS * len[base] * len[base])) {
+        snprintf(why, why_len, "degenerate: zero area (coincident or collinear vertices)");
+        return false;
+    }
+    s->p[0] = p0;
+    s->p[1] = p1;
+    s->p[2] = apex;
+    s->p[3] = apex;
+    s->normal = v3_scale(n, 1.0 / nl);
+    s->area = 0.5 * nl;
+    s->planarise_offset = 0;
+    memset(s->planarise_dist, 0, sizeof(s->planarise_dist));
+    s->triangle = true;
+    return true;
+}
+
 /* |dP/ds x dP/dt| of the bilinear patch at (s, t), signed along the normal
  * so that it is exactly bilinear in (s, t) for a planar quad. */
 static double jacobian(const surface *sf, double s, double t)
@@ -227,10 +261,12 @@ void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info)
     for (uint32_t i = 0; i < scene->surface_count; i++) {
         const surface *sf = &scene->surfaces[i];
         info->area += sf->area;
+        info->triangles += sf->triangle;
         if (sf->planarise_offset > 0) {
             info->planarised++;
             info->planarise_max_offset = fmax(info->planarise_max_offset, sf->planarise_offset);
         }
     }
+    info->skipped_triangles = scene->skipped_triangles;
     info->cpu_bytes = bytes;
 }

@@ -10,6 +10,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "core/error.h"
 #include "scene/scene.h"
 
 /* Limits (documented in scenes/README.md). */
@@ -46,6 +47,61 @@ bool scene_quad_setup(surface *s, const vec3 in[4], char *why, size_t why_len);
 /* The longer of each pair of opposite edges: along u (p0p1, p3p2) and v
  * (p0p3, p1p2), in m. */
 void scene_quad_edge_lengths(const surface *s, double *lu, double *lv);
+
+/* Validates three object-space vertices (m, counter-clockwise seen from
+ * the front) as a triangle and fills s as a quad collapsed at its apex
+ * (scene.h): p0 p1 its longest edge, p2 = p3 the opposite vertex. On
+ * failure returns false and writes the reason to why. */
+bool scene_triangle_setup(surface *s, const vec3 in[3], char *why, size_t why_len);
+
+/* Names are checked for duplicates through sorted lists, so that large
+ * scenes cost n log n, not n^2. */
+typedef struct name_ref {
+    const char *name;
+    uint32_t index;
+} name_ref;
+
+/* Sorts refs; returns the position in refs of the second of the first
+ * duplicate pair (by index order of the pairs found), or n if none. */
+uint32_t scene_find_duplicate(name_ref *refs, uint32_t n);
+
+/* The scene-file loader's access to the builder: the scene under
+ * construction (its quality, unit, name), the density scale once the
+ * file's quality is known, the duplicate-material check before the
+ * objects that name them, and a quad whose messages name the file's
+ * field (`field`) at `where` ("object 'o': surface 's': "), at a density
+ * already resolved. */
+xrad_scene *scene_builder_scene(xrad_scene_builder *b);
+xrad_status scene_builder_set_density(xrad_scene_builder *b, double scale, double density,
+                                      xrad_error *err);
+/* The current object's density, or the surface's own (`given`, 0: none),
+ * scaled. */
+xrad_status scene_builder_surface_density(xrad_scene_builder *b, const char *where,
+                                          double given, double *out, xrad_error *err);
+xrad_status scene_builder_check_materials(xrad_scene_builder *b, xrad_error *err);
+xrad_status scene_builder_quad(xrad_scene_builder *b, const xrad_quad_desc *q, const char *where,
+                               const char *field, double density, xrad_error *err);
+
+/* A note for the user about the input (what a model file has that xrad
+ * ignores): kept in the scene, xrad_scene_warning. */
+void scene_builder_warn(xrad_scene_builder *b, const char *fmt, ...) XRAD_PRINTF(2, 3);
+
+/* Model files (scene_import.c, assimp). */
+typedef struct scene_import_desc {
+    const char *prefix;  /* material names are PREFIX/NAME */
+    const char *node;    /* only this node's subtree; NULL: the whole file */
+    bool take_camera;    /* the file's first camera (or `camera`) becomes the scene's */
+    const char *camera;
+    uint32_t material;   /* every triangle's material; UINT32_MAX: the file's */
+    double density;      /* as given (0: the object's) */
+} scene_import_desc;
+
+/* Whether the file name ends in an extension scene_import_model reads. */
+bool scene_import_supported(const char *path);
+
+/* Adds the file's triangle meshes to the builder's current object. */
+xrad_status scene_import_model(xrad_scene_builder *b, const char *path,
+                               const scene_import_desc *desc, xrad_error *err);
 
 /* Allocates and fills the elements of every surface (whose nu, nv are set),
  * the objects' element ranges, and packs the atlas. */

@@ -20,43 +20,13 @@
 typedef struct ctx {
     const char *file;
     xrad_error *err;
+    xrad_scene_builder *b; /* what the file's values go to (scene_builder.c) */
     /* "object 'room': surface 'floor': " or "" at the top level. */
     char where[3 * SCENE_NAME_MAX + 64];
     double unit;         /* m per file unit */
-    double density;      /* scene default, per m */
     double density_scale; /* every density read times this (quality.density_scale) */
-    uint64_t elements;   /* so far, for the limit */
-    uint32_t surface_cap;
-    struct name_ref *material_index; /* materials sorted by name, for lookups */
+    name_ref *material_index; /* materials sorted by name, for lookups */
 } ctx;
-
-/* Names are checked for duplicates and looked up through sorted indexes, so
- * that large scenes cost n log n, not n^2. */
-typedef struct name_ref {
-    const char *name;
-    uint32_t index;
-} name_ref;
-
-static int name_ref_cmp(const void *pa, const void *pb)
-{
-    const name_ref *a = pa, *b = pb;
-    int c = strcmp(a->name, b->name);
-    if (c)
-        return c;
-    return a->index < b->index ? -1 : a->index > b->index;
-}
-
-/* Sorts refs; returns the position in refs of the second of the first
- * duplicate pair (by index order of the pairs found), or n if none. */
-static uint32_t sort_find_duplicate(name_ref *refs, uint32_t n)
-{
-    qsort(refs, n, sizeof(*refs), name_ref_cmp);
-    uint32_t dup = n;
-    for (uint32_t k = 1; k < n; k++)
-        if (!strcmp(refs[k - 1].name, refs[k].name) && (dup == n || refs[k].index < refs[dup].index))
-            dup = k;
-    return dup;
-}
 
 XRAD_PRINTF(3, 4)
 static xrad_status fail(ctx *c, const char *field, const char *fmt, ...)
@@ -245,6 +215,8 @@ static xrad_status get_axis(ctx *c, const cJSON *obj, const char *field, vec3 *a
     return XRAD_OK;
 }
 
+/* A density as the file gives it: (0, SCENE_MAX_DENSITY] per metre. The
+ * builder scales it (and checks the product). */
 static xrad_status get_density(ctx *c, const cJSON *obj, const char *key, double *out,
                                bool *present)
 {
@@ -254,109 +226,60 @@ static xrad_status get_density(ctx *c, const cJSON *obj, const char *key, double
     if (!(*out > 0) || *out > SCENE_MAX_DENSITY)
         return fail(c, key, "must be in (0, %g] elements per metre, got %g", SCENE_MAX_DENSITY,
                     *out);
-    *out *= c->density_scale;
-    if (*out > SCENE_MAX_DENSITY)
-        return fail(c, key, "%g x the density scale %g is more than %g elements per metre",
-                    *out / c->density_scale, c->density_scale, SCENE_MAX_DENSITY);
     return XRAD_OK;
+}
+
+static void put3(double out[3], vec3 v)
+{
+    out[0] = v.x;
+    out[1] = v.y;
+    out[2] = v.z;
 }
 
 /* ------------------------------------------------------------- materials */
 
-static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index, xrad_scene *sc)
+static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index)
 {
     static const char *const keys[] = {"name", "albedo", "emission", NULL};
     snprintf(c->where, sizeof(c->where), "material #%u: ", index);
     if (!cJSON_IsObject(j))
         return fail(c, NULL, "must be an object, got %s", type_name(j));
-    material *m = &sc->materials[index];
-    xrad_status st = get_name(c, j, "name", "name", 0, m->name);
+    char name[SCENE_NAME_MAX];
+    xrad_status st = get_name(c, j, "name", "name", 0, name);
     if (st)
         return st;
-    snprintf(c->where, sizeof(c->where), "material '%s': ", m->name);
-    if ((st = check_keys(c, j, "", keys)))
+    snprintf(c->where, sizeof(c->where), "material '%s': ", name);
+    vec3 albedo, emission = v3(0, 0, 0);
+    if ((st = check_keys(c, j, "", keys)) ||
+        (st = get_vec3(c, j, "albedo", "albedo", true, &albedo, NULL)) ||
+        (st = get_vec3(c, j, "emission", "emission", false, &emission, NULL)))
         return st;
-    if ((st = get_vec3(c, j, "albedo", "albedo", true, &m->albedo, NULL)))
-        return st;
-    double a[3] = {m->albedo.x, m->albedo.y, m->albedo.z};
-    for (int k = 0; k < 3; k++)
-        if (!(a[k] >= 0 && a[k] < 1))
-            return fail(c, "albedo", "must be in [0, 1), got %g", a[k]);
-    m->emission = v3(0, 0, 0);
-    if ((st = get_vec3(c, j, "emission", "emission", false, &m->emission, NULL)))
-        return st;
-    double e[3] = {m->emission.x, m->emission.y, m->emission.z};
-    for (int k = 0; k < 3; k++)
-        if (!(e[k] >= 0 && e[k] <= SCENE_MAX_EMISSION))
-            return fail(c, "emission", "must be in [0, %g] W/m^2, got %g", SCENE_MAX_EMISSION,
-                        e[k]);
-    return XRAD_OK;
+    xrad_material_desc m = {.name = name};
+    put3(m.albedo, albedo);
+    put3(m.emission, emission);
+    return xrad_scene_builder_add_material(c->b, &m, NULL, c->err);
 }
 
 /* -------------------------------------------------------------- surfaces */
 
 typedef struct surface_opts {
-    double density;   /* the surface's, else the object's, else the scene's */
-    const char *density_field;
+    double density; /* resolved: the surface's, else the object's */
     bool explicit_counts;
     uint32_t counts[3];
 } surface_opts;
 
-static xrad_status grow_surfaces(ctx *c, xrad_scene *sc, uint32_t add)
+/* One quad through the builder, its messages at this surface and `field`. */
+static xrad_status add_quad(ctx *c, uint32_t mat, const char *name, const vec3 p[4],
+                            const char *field, const surface_opts *o, uint32_t cu, uint32_t cv)
 {
-    if (sc->surface_count + (uint64_t)add > SCENE_MAX_SURFACES)
-        return fail(c, NULL, "more than %u surfaces in the scene", SCENE_MAX_SURFACES);
-    if (sc->surface_count + add <= c->surface_cap)
-        return XRAD_OK;
-    uint32_t cap = c->surface_cap ? c->surface_cap * 2 : 64;
-    while (cap < sc->surface_count + add)
-        cap *= 2;
-    surface *s = realloc(sc->surfaces, cap * sizeof(surface));
-    if (!s)
-        return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory for %u surfaces", c->file,
-                         cap);
-    sc->surfaces = s;
-    c->surface_cap = cap;
-    return XRAD_OK;
-}
-
-/* Adds one quad: validates it, counts its elements, checks the limits. */
-static xrad_status add_quad(ctx *c, xrad_scene *sc, uint32_t obj, uint32_t mat, const char *name,
-                            const vec3 p[4], const char *geo_field, const surface_opts *o,
-                            uint32_t cu, uint32_t cv)
-{
-    surface *s = &sc->surfaces[sc->surface_count];
-    memset(s, 0, sizeof(*s));
-    char why[256];
-    if (!scene_quad_setup(s, p, why, sizeof(why)))
-        return fail(c, geo_field, "%s", why);
-    snprintf(s->name, sizeof(s->name), "%s", name);
-    s->object = obj;
-    s->material = mat;
-    const char *count_field = "elements";
+    xrad_quad_desc q = {.name = name, .material = mat};
+    for (int k = 0; k < 4; k++)
+        put3(q.p[k], p[k]);
     if (o->explicit_counts) {
-        s->nu = cu;
-        s->nv = cv;
-    } else {
-        double lu, lv;
-        scene_quad_edge_lengths(s, &lu, &lv);
-        double nu = scene_samples_along(lu, o->density);
-        double nv = scene_samples_along(lv, o->density);
-        count_field = o->density_field;
-        if (nu > SCENE_MAX_SAMPLES || nv > SCENE_MAX_SAMPLES)
-            return fail(c, count_field,
-                        "gives %.0f x %.0f elements on surface '%s', more than %u along an edge",
-                        nu, nv, name, SCENE_MAX_SAMPLES);
-        s->nu = (uint32_t)nu;
-        s->nv = (uint32_t)nv;
+        q.samples[0] = cu;
+        q.samples[1] = cv;
     }
-    c->elements += (uint64_t)s->nu * s->nv;
-    if (c->elements > SCENE_MAX_ELEMENTS)
-        return fail(c, count_field,
-                    "surface '%s' (%u x %u) brings the scene to %llu elements, more than %u", name,
-                    s->nu, s->nv, (unsigned long long)c->elements, SCENE_MAX_ELEMENTS);
-    sc->surface_count++;
-    return XRAD_OK;
+    return scene_builder_quad(c->b, &q, c->where, field, o->density, c->err);
 }
 
 static xrad_status parse_quad_geometry(ctx *c, const cJSON *g, vec3 p[4])
@@ -409,8 +332,8 @@ static xrad_status parse_vertices(ctx *c, const cJSON *g, vec3 p[4])
 /* A box expands into six faces named <name>.-u, <name>.+u, ...; each face's
  * vertex order is chosen so that its normal points away from the box's
  * centre (towards it with "inward"). */
-static xrad_status add_box(ctx *c, xrad_scene *sc, uint32_t obj, uint32_t mat, const char *name,
-                           const cJSON *g, bool inward, const surface_opts *o)
+static xrad_status add_box(ctx *c, uint32_t mat, const char *name, const cJSON *g, bool inward,
+                           const surface_opts *o)
 {
     static const char *const keys[] = {"origin", "u", "v", "w", NULL};
     if (!cJSON_IsObject(g))
@@ -453,16 +376,15 @@ static xrad_status add_box(ctx *c, xrad_scene *sc, uint32_t obj, uint32_t mat, c
                          v3_add(corner, eb)};
             char face[SCENE_NAME_MAX];
             snprintf(face, sizeof(face), "%s.%c%c", name, side ? '+' : '-', axis_name[a]);
-            if ((st = grow_surfaces(c, sc, 1)) ||
-                (st = add_quad(c, sc, obj, mat, face, p, "box", o, ca, cb)))
+            if ((st = add_quad(c, mat, face, p, "box", o, ca, cb)))
                 return st;
         }
     }
     return XRAD_OK;
 }
 
-static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, xrad_scene *sc,
-                                 uint32_t obj, double object_density, const char *object_where)
+static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, uint32_t material_count,
+                                 const char *object_where)
 {
     static const char *const keys[] = {"name", "material", "quad", "vertices", "box",
                                        "inward", "density", "elements", NULL};
@@ -485,7 +407,7 @@ static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, xrad_sc
     name_ref key = {mat_name, 0};
     const name_ref *found = NULL;
     /* Any entry with the name will do: duplicates were rejected. */
-    for (uint32_t lo = 0, hi = sc->material_count; lo < hi && !found;) {
+    for (uint32_t lo = 0, hi = material_count; lo < hi && !found;) {
         uint32_t mid = lo + (hi - lo) / 2;
         int cmp = strcmp(key.name, c->material_index[mid].name);
         if (cmp == 0)
@@ -512,13 +434,12 @@ static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, xrad_sc
     if (member(j, "inward") && !box)
         return fail(c, "inward", "only allowed with 'box'");
 
-    surface_opts o = {object_density, "density", false, {0, 0, 0}};
+    surface_opts o = {0};
     bool has_density;
-    double density;
-    if ((st = get_density(c, j, "density", &density, &has_density)))
+    double density = 0;
+    if ((st = get_density(c, j, "density", &density, &has_density)) ||
+        (st = scene_builder_surface_density(c->b, c->where, density, &o.density, c->err)))
         return st;
-    if (has_density)
-        o.density = density;
     const cJSON *el = member(j, "elements");
     if (el) {
         int want = box ? 3 : 2;
@@ -533,18 +454,19 @@ static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, xrad_sc
     }
 
     if (box)
-        return add_box(c, sc, obj, mat, name, box, inward, &o);
+        return add_box(c, mat, name, box, inward, &o);
     vec3 p[4];
-    if ((st = quad ? parse_quad_geometry(c, quad, p) : parse_vertices(c, verts, p)) ||
-        (st = grow_surfaces(c, sc, 1)))
+    if ((st = quad ? parse_quad_geometry(c, quad, p) : parse_vertices(c, verts, p)))
         return st;
-    return add_quad(c, sc, obj, mat, name, p, quad ? "quad" : "vertices", &o, o.counts[0],
-                    o.counts[1]);
+    return add_quad(c, mat, name, p, quad ? "quad" : "vertices", &o, o.counts[0], o.counts[1]);
 }
 
 /* --------------------------------------------------------------- objects */
 
-static xrad_status parse_animation(ctx *c, const cJSON *j, animation *a)
+/* The file's animation into `a`; the keyframes go to *keys (the caller
+ * frees them). The builder checks the values. */
+static xrad_status parse_animation(ctx *c, const cJSON *j, xrad_animation_desc *a,
+                                   xrad_keyframe **keys_out)
 {
     static const char *const keys[] = {"rotate", "keyframes", "loop", NULL};
     static const char *const rot_keys[] = {"axis", "pivot", "degrees_per_second", NULL};
@@ -554,23 +476,24 @@ static xrad_status parse_animation(ctx *c, const cJSON *j, animation *a)
     xrad_status st = check_keys(c, j, "animation.", keys);
     if (st)
         return st;
-    a->loop = true;
-    if ((st = get_bool(c, j, "loop", "animation.loop", &a->loop)))
+    bool loop = true;
+    if ((st = get_bool(c, j, "loop", "animation.loop", &loop)))
         return st;
+    a->once = !loop;
     const cJSON *rot = member(j, "rotate");
     if (rot) {
         if (!cJSON_IsObject(rot))
             return fail(c, "animation.rotate", "must be an object, got %s", type_name(rot));
-        double dps;
+        vec3 axis, pivot = v3(0, 0, 0);
         if ((st = check_keys(c, rot, "animation.rotate.", rot_keys)) ||
-            (st = get_axis(c, rot, "animation.rotate.axis", &a->axis)) ||
-            (st = get_length3(c, rot, "pivot", "animation.rotate.pivot", false, &a->pivot,
-                              NULL)) ||
+            (st = get_axis(c, rot, "animation.rotate.axis", &axis)) ||
+            (st = get_length3(c, rot, "pivot", "animation.rotate.pivot", false, &pivot, NULL)) ||
             (st = get_number(c, rot, "degrees_per_second", "animation.rotate.degrees_per_second",
-                             true, &dps, NULL)))
+                             true, &a->degrees_per_second, NULL)))
             return st;
-        a->rotates = true;
-        a->rate = dps * PI / 180.0;
+        a->rotates = 1;
+        put3(a->axis, axis);
+        put3(a->pivot, pivot);
     }
     const cJSON *keysj = member(j, "keyframes");
     if (!keysj)
@@ -581,9 +504,11 @@ static xrad_status parse_animation(ctx *c, const cJSON *j, animation *a)
     if (n < 1 || (uint32_t)n > SCENE_MAX_KEYFRAMES)
         return fail(c, "animation.keyframes", "must have 1 to %u keys, got %d",
                     SCENE_MAX_KEYFRAMES, n);
-    a->keyframes = calloc((size_t)n, sizeof(keyframe));
-    if (!a->keyframes)
+    xrad_keyframe *kf = calloc((size_t)n, sizeof(xrad_keyframe));
+    if (!kf)
         return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->file);
+    *keys_out = kf;
+    a->keyframes = kf;
     a->keyframe_count = (uint32_t)n;
     int k = 0;
     for (const cJSON *it = keysj->child; it; it = it->next, k++) {
@@ -594,21 +519,17 @@ static xrad_status parse_animation(ctx *c, const cJSON *j, animation *a)
         if (!cJSON_IsObject(it))
             return fail(c, ftime, "a key must be an object {time, translate}, got %s",
                         type_name(it));
-        keyframe *kf = &a->keyframes[k];
+        vec3 t;
         if ((st = check_keys(c, it, prefix, key_keys)) ||
-            (st = get_number(c, it, "time", ftime, true, &kf->time, NULL)) ||
-            (st = get_length3(c, it, "translate", ftrans, true, &kf->translation, NULL)))
+            (st = get_number(c, it, "time", ftime, true, &kf[k].time, NULL)) ||
+            (st = get_length3(c, it, "translate", ftrans, true, &t, NULL)))
             return st;
-        if (kf->time < 0)
-            return fail(c, ftime, "must be >= 0 s, got %g", kf->time);
-        if (k > 0 && !(kf->time > a->keyframes[k - 1].time))
-            return fail(c, ftime, "times must increase strictly: %g after %g", kf->time,
-                        a->keyframes[k - 1].time);
+        put3(kf[k].translate, t);
     }
     return XRAD_OK;
 }
 
-static xrad_status parse_object(ctx *c, const cJSON *j, uint32_t index, xrad_scene *sc)
+static xrad_status parse_object(ctx *c, const cJSON *j, uint32_t index, uint32_t material_count)
 {
     static const char *const keys[] = {"name",   "dynamic",       "translate", "rotate",
                                        "density", "cross_density", "animation", "surfaces",
@@ -617,102 +538,64 @@ static xrad_status parse_object(ctx *c, const cJSON *j, uint32_t index, xrad_sce
     snprintf(c->where, sizeof(c->where), "object #%u: ", index);
     if (!cJSON_IsObject(j))
         return fail(c, NULL, "must be an object, got %s", type_name(j));
-    object *ob = &sc->objects[index];
-    xrad_status st = get_name(c, j, "name", "name", 0, ob->name);
+    char name[SCENE_NAME_MAX];
+    xrad_status st = get_name(c, j, "name", "name", 0, name);
     if (st)
         return st;
     char where[SCENE_NAME_MAX + 16];
-    snprintf(where, sizeof(where), "object '%s': ", ob->name);
+    snprintf(where, sizeof(where), "object '%s': ", name);
     snprintf(c->where, sizeof(c->where), "%s", where);
-    if ((st = check_keys(c, j, "", keys)))
+    xrad_object_desc o = {.name = name};
+    bool dynamic = false;
+    if ((st = check_keys(c, j, "", keys)) || (st = get_bool(c, j, "dynamic", "dynamic", &dynamic)))
         return st;
-    if ((st = get_bool(c, j, "dynamic", "dynamic", &ob->dynamic)))
-        return st;
+    o.dynamic = dynamic;
 
     vec3 translate = v3(0, 0, 0);
-    mat3 rot = m3_identity();
     if ((st = get_length3(c, j, "translate", "translate", false, &translate, NULL)))
         return st;
+    put3(o.translate, translate);
     const cJSON *r = member(j, "rotate");
     if (r) {
         if (!cJSON_IsObject(r))
             return fail(c, "rotate", "must be an object {axis, degrees}, got %s", type_name(r));
         vec3 axis;
-        double deg;
         if ((st = check_keys(c, r, "rotate.", rot_keys)) ||
             (st = get_axis(c, r, "rotate.axis", &axis)) ||
-            (st = get_number(c, r, "degrees", "rotate.degrees", true, &deg, NULL)))
+            (st = get_number(c, r, "degrees", "rotate.degrees", true, &o.rotate_degrees, NULL)))
             return st;
-        rot = m3_rotation(axis, deg * PI / 180.0);
+        put3(o.rotate_axis, axis);
     }
-    ob->base = (xform){rot, translate};
-
     bool has;
-    double density = c->density;
-    if ((st = get_density(c, j, "density", &density, &has)))
+    if ((st = get_density(c, j, "density", &o.density, &has)) ||
+        (st = get_density(c, j, "cross_density", &o.cross_density, &has)))
         return st;
-    if (!has)
-        density = c->density;
-    if ((st = get_density(c, j, "cross_density", &ob->cross_density, &has)))
-        return st;
-    if (has && !ob->dynamic)
-        return fail(c, "cross_density", "only allowed on dynamic objects (\"dynamic\": true)");
     const cJSON *anim = member(j, "animation");
-    if (anim) {
-        if (!ob->dynamic)
-            return fail(c, "animation", "only allowed on dynamic objects (\"dynamic\": true)");
-        if ((st = parse_animation(c, anim, &ob->anim)))
-            return st;
-    }
+    xrad_animation_desc a = {0};
+    xrad_keyframe *keys_given = NULL;
+    if (anim && !(st = parse_animation(c, anim, &a, &keys_given)))
+        o.animation = &a;
+    if (!st)
+        st = xrad_scene_builder_begin_object(c->b, &o, c->err);
+    free(keys_given);
+    if (st)
+        return st;
 
     const cJSON *surfs = member(j, "surfaces");
     if (!surfs)
         return fail(c, "surfaces", "missing (required)");
     if (!cJSON_IsArray(surfs) || cJSON_GetArraySize(surfs) < 1)
         return fail(c, "surfaces", "must be a non-empty array, got %s", type_name(surfs));
-    ob->first_surface = sc->surface_count;
     uint32_t k = 0;
     for (const cJSON *it = surfs->child; it; it = it->next, k++)
-        if ((st = parse_surface(c, it, k, sc, index, density, where)))
+        if ((st = parse_surface(c, it, k, material_count, where)))
             return st;
-    ob->surface_count = sc->surface_count - ob->first_surface;
-    name_ref *refs = malloc(ob->surface_count * sizeof(*refs));
-    if (!refs)
-        return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->file);
-    for (uint32_t s = 0; s < ob->surface_count; s++)
-        refs[s] = (name_ref){sc->surfaces[ob->first_surface + s].name, s};
-    uint32_t dup = sort_find_duplicate(refs, ob->surface_count);
-    if (dup < ob->surface_count) {
-        snprintf(c->where, sizeof(c->where), "%ssurface '%s': ", where, refs[dup].name);
-        st = fail(c, "name", "duplicate surface name '%s' in this object (box faces are named "
-                  "<box>.-u, <box>.+u, ...)", refs[dup].name);
-    }
-    free(refs);
-    if (st)
-        return st;
-
-    if (ob->cross_density > 0) {
-        /* In double: a long edge at a high density overflows any integer. */
-        double n = 0;
-        for (uint32_t s = ob->first_surface; s < sc->surface_count; s++) {
-            double lu, lv;
-            scene_quad_edge_lengths(&sc->surfaces[s], &lu, &lv);
-            n += scene_samples_along(lu, ob->cross_density) *
-                 scene_samples_along(lv, ob->cross_density);
-            if (n > SCENE_MAX_ELEMENTS) {
-                snprintf(c->where, sizeof(c->where), "%s", where);
-                return fail(c, "cross_density", "gives more than %u elements",
-                            SCENE_MAX_ELEMENTS);
-            }
-        }
-        ob->cross_element_count = (uint32_t)n;
-    }
     return XRAD_OK;
 }
 
 /* ---------------------------------------------------------------- camera */
 
-static xrad_status parse_camera(ctx *c, const cJSON *j, camera *cam)
+static xrad_status parse_camera(ctx *c, const cJSON *j)
 {
     static const char *const keys[] = {"position", "look_at", "up", "fov_degrees",
                                        "width",    "height",  NULL};
@@ -720,39 +603,27 @@ static xrad_status parse_camera(ctx *c, const cJSON *j, camera *cam)
     if (!cJSON_IsObject(j))
         return fail(c, NULL, "must be an object, got %s", type_name(j));
     xrad_status st = check_keys(c, j, "", keys);
-    double fov = 45;
-    if (st || (st = get_length3(c, j, "position", "position", true, &cam->position, NULL)) ||
-        (st = get_length3(c, j, "look_at", "look_at", true, &cam->look_at, NULL)) ||
-        (st = get_vec3(c, j, "up", "up", false, &cam->up, NULL)) ||
-        (st = get_number(c, j, "fov_degrees", "fov_degrees", false, &fov, NULL)))
+    vec3 position, look_at, up = v3(0, 1, 0);
+    xrad_camera_desc cam = {.fov_degrees = 45};
+    bool has_up = false;
+    if (st || (st = get_length3(c, j, "position", "position", true, &position, NULL)) ||
+        (st = get_length3(c, j, "look_at", "look_at", true, &look_at, NULL)) ||
+        (st = get_vec3(c, j, "up", "up", false, &up, &has_up)) ||
+        (st = get_number(c, j, "fov_degrees", "fov_degrees", false, &cam.fov_degrees, NULL)))
         return st;
-    if (!(fov > 0 && fov < 180))
-        return fail(c, "fov_degrees", "must be in (0, 180), got %g", fov);
-    cam->fov_y = fov * PI / 180.0;
-    vec3 dir = v3_sub(cam->look_at, cam->position);
-    if (!(v3_len(dir) > 0))
-        return fail(c, "look_at", "must differ from position");
-    if (!(v3_len(v3_cross(v3_norm(dir), v3_norm(cam->up))) > 1e-6))
+    /* The builder reads a zero `up` as "default". */
+    if (has_up && !(v3_len(up) > 0))
         return fail(c, "up", "must be non-zero and not parallel to the view direction");
+    if (!(cam.fov_degrees > 0 && cam.fov_degrees < 180))
+        return fail(c, "fov_degrees", "must be in (0, 180), got %g", cam.fov_degrees);
+    put3(cam.position, position);
+    put3(cam.look_at, look_at);
+    put3(cam.up, up);
     const cJSON *w = member(j, "width"), *h = member(j, "height");
-    if ((w && (st = get_uint(c, w, "width", 1, 16384, &cam->width))) ||
-        (h && (st = get_uint(c, h, "height", 1, 16384, &cam->height))))
+    if ((w && (st = get_uint(c, w, "width", 1, 16384, &cam.width))) ||
+        (h && (st = get_uint(c, h, "height", 1, 16384, &cam.height))))
         return st;
-    return XRAD_OK;
-}
-
-/* Without a camera: look along +z at the centre of the scene's bounds from
- * far enough back that a sphere around them fits the 45 degree view. */
-static void default_camera(xrad_scene *sc)
-{
-    vec3 lo, hi;
-    scene_bounds(sc, 0.0, &lo, &hi);
-    vec3 centre = v3_scale(v3_add(lo, hi), 0.5);
-    double radius = 0.5 * v3_len(v3_sub(hi, lo));
-    camera *cam = &sc->cam;
-    cam->fov_y = 45.0 * PI / 180.0;
-    cam->look_at = centre;
-    cam->position = v3_sub(centre, v3(0, 0, radius / sin(0.5 * cam->fov_y) + radius));
+    return xrad_scene_builder_set_camera(c->b, &cam, c->err);
 }
 
 /* ------------------------------------------------------------------ root */
@@ -794,10 +665,11 @@ static xrad_status parse_quality(ctx *c, const cJSON *j, xrad_scene *sc, xrad_qu
     return XRAD_OK;
 }
 
-static xrad_status parse_root(ctx *c, const cJSON *root, xrad_scene *sc)
+static xrad_status parse_root(ctx *c, const cJSON *root)
 {
     static const char *const keys[] = {"name",    "unit",   "density", "materials",
                                        "objects", "camera", "quality", NULL};
+    xrad_scene *sc = scene_builder_scene(c->b);
     c->where[0] = '\0';
     if (!cJSON_IsObject(root))
         return fail(c, NULL, "the top level must be a JSON object, got %s", type_name(root));
@@ -831,14 +703,11 @@ static xrad_status parse_root(ctx *c, const cJSON *root, xrad_scene *sc)
         return st;
     if (!(c->density_scale > 0))
         c->density_scale = q.density_scale > 0 ? q.density_scale : 1;
-    sc->density_scale = c->density_scale;
     bool has;
-    c->density = 20;
-    if ((st = get_density(c, root, "density", &c->density, &has)))
+    double density = 0;
+    if ((st = get_density(c, root, "density", &density, &has)) ||
+        (st = scene_builder_set_density(c->b, c->density_scale, density, c->err)))
         return st;
-    if (!has)
-        c->density = 20 * c->density_scale;
-    sc->density = c->density;
 
     const cJSON *mats = member(root, "materials");
     if (!mats)
@@ -848,23 +717,19 @@ static xrad_status parse_root(ctx *c, const cJSON *root, xrad_scene *sc)
         return fail(c, "materials", "must be a non-empty array, got %s", type_name(mats));
     if ((uint32_t)nm > SCENE_MAX_MATERIALS)
         return fail(c, "materials", "more than %u materials", SCENE_MAX_MATERIALS);
-    if (!(sc->materials = calloc((size_t)nm, sizeof(material))))
-        return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->file);
     uint32_t k = 0;
-    for (const cJSON *it = mats->child; it; it = it->next, k++) {
-        if ((st = parse_material(c, it, k, sc)))
+    for (const cJSON *it = mats->child; it; it = it->next, k++)
+        if ((st = parse_material(c, it, k)))
             return st;
-        sc->material_count = k + 1;
-    }
-    if (!(c->material_index = malloc(sc->material_count * sizeof(name_ref))))
+    if ((st = scene_builder_check_materials(c->b, c->err)))
+        return st;
+    uint32_t material_count = sc->material_count;
+    if (!(c->material_index = malloc(material_count * sizeof(name_ref))))
         return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->file);
-    for (k = 0; k < sc->material_count; k++)
+    for (k = 0; k < material_count; k++)
         c->material_index[k] = (name_ref){sc->materials[k].name, k};
-    uint32_t dup = sort_find_duplicate(c->material_index, sc->material_count);
-    if (dup < sc->material_count) {
-        snprintf(c->where, sizeof(c->where), "material '%s': ", c->material_index[dup].name);
-        return fail(c, "name", "duplicate material name '%s'", c->material_index[dup].name);
-    }
+    /* Sorted by name for the lookups (no duplicates: checked above). */
+    scene_find_duplicate(c->material_index, material_count);
 
     c->where[0] = '\0';
     const cJSON *objs = member(root, "objects");
@@ -875,35 +740,13 @@ static xrad_status parse_root(ctx *c, const cJSON *root, xrad_scene *sc)
         return fail(c, "objects", "must be a non-empty array, got %s", type_name(objs));
     if ((uint32_t)no > SCENE_MAX_OBJECTS)
         return fail(c, "objects", "more than %u objects", SCENE_MAX_OBJECTS);
-    if (!(sc->objects = calloc((size_t)no, sizeof(object))))
-        return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->file);
     k = 0;
-    for (const cJSON *it = objs->child; it; it = it->next, k++) {
-        /* Count it first so that destroy frees its keyframes on failure. */
-        sc->object_count = k + 1;
-        if ((st = parse_object(c, it, k, sc)))
+    for (const cJSON *it = objs->child; it; it = it->next, k++)
+        if ((st = parse_object(c, it, k, material_count)))
             return st;
-    }
-    name_ref *refs = malloc(sc->object_count * sizeof(*refs));
-    if (!refs)
-        return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->file);
-    for (k = 0; k < sc->object_count; k++)
-        refs[k] = (name_ref){sc->objects[k].name, k};
-    dup = sort_find_duplicate(refs, sc->object_count);
-    if (dup < sc->object_count) {
-        snprintf(c->where, sizeof(c->where), "object '%s': ", refs[dup].name);
-        st = fail(c, "name", "duplicate object name '%s'", refs[dup].name);
-    }
-    free(refs);
-    if (st)
-        return st;
 
-    sc->cam = (camera){.up = v3(0, 1, 0), .width = 512, .height = 512};
     const cJSON *cam = member(root, "camera");
-    if (cam)
-        return parse_camera(c, cam, &sc->cam);
-    default_camera(sc);
-    return XRAD_OK;
+    return cam ? parse_camera(c, cam) : XRAD_OK;
 }
 
 /* 1-based line and column of byte `offset`. */
@@ -962,83 +805,21 @@ xrad_status xrad_scene_parse_with(const char *json, size_t len, const char *name
                          line, col);
     }
 
-    xrad_scene *sc = calloc(1, sizeof(*sc));
-    if (!sc) {
-        cJSON_Delete(root);
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory", name);
-    }
-    snprintf(sc->path, sizeof(sc->path), "%s", name);
     double scale = desc ? desc->density_scale : 0;
-    if (scale != 0 && !(scale > 0 && scale <= 16))
-        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: density scale %g is outside (0, 16]", name,
-                         scale);
-    ctx c = {.file = name, .err = err, .density_scale = scale};
-    xrad_status st = parse_root(&c, root, sc);
+    xrad_scene_builder *b = NULL;
+    xrad_status st = xrad_scene_builder_create(
+        &(xrad_scene_builder_desc){.name = name, .density_scale = scale}, &b, err);
+    if (st) {
+        cJSON_Delete(root);
+        return st;
+    }
+    ctx c = {.file = name, .err = err, .b = b, .density_scale = scale};
+    st = parse_root(&c, root);
     free(c.material_index);
     cJSON_Delete(root);
     if (!st)
-        st = scene_build_elements(sc, err);
-    if (st) {
-        xrad_scene_destroy(&sc);
-        return st;
-    }
-    *out = sc;
-    return XRAD_OK;
-}
-
-xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err)
-{
-    return xrad_scene_load_with(path, NULL, out, err);
-}
-
-xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *desc,
-                                 xrad_scene **out, xrad_error *err)
-{
-    *out = NULL;
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        /* A file that is not there or not ours to read is the caller's bad
-         * input; anything else (EIO, EMFILE, ...) is the system's. */
-        return xrad_fail(err,
-                         errno == ENOENT || errno == ENOTDIR || errno == EACCES ||
-                                 errno == EISDIR || errno == ENAMETOOLONG || errno == ELOOP
-                             ? XRAD_ERROR_INPUT
-                             : XRAD_ERROR_SYSTEM,
-                         "%s: cannot open: %s", path, strerror(errno));
-    size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap);
-    xrad_status st = XRAD_OK;
-    while (buf) {
-        if (len == cap) {
-            if (cap >= SCENE_MAX_FILE_BYTES) {
-                st = xrad_fail(err, XRAD_ERROR_INPUT, "%s: larger than the %u byte limit", path,
-                               SCENE_MAX_FILE_BYTES);
-                break;
-            }
-            char *grown = realloc(buf, cap * 2);
-            if (!grown) {
-                free(buf);
-                buf = NULL;
-                break;
-            }
-            buf = grown;
-            cap *= 2;
-        }
-        size_t got = fread(buf + len, 1, cap - len, f);
-        len += got;
-        if (got == 0) {
-            if (ferror(f))
-                st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: cannot read: %s", path,
-                               strerror(errno));
-            break;
-        }
-    }
-    fclose(f);
-    if (!buf)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory reading it", path);
-    if (!st)
-        st = xrad_scene_parse_with(buf, len, path, desc, out, err);
-    free(buf);
+        st = xrad_scene_builder_finish(b, out, err);
+    xrad_scene_builder_destroy(&b);
     return st;
 }
 
@@ -1053,6 +834,9 @@ void xrad_scene_destroy(xrad_scene **scene)
     free(sc->materials);
     free(sc->surfaces);
     free(sc->elements);
+    for (uint32_t k = 0; k < sc->warning_count; k++)
+        free(sc->warnings[k]);
+    free(sc->warnings);
     free(sc);
     *scene = NULL;
 }

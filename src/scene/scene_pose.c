@@ -141,5 +141,6 @@ xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
     info->length_u = v3_len(v3_sub(s->p[1], s->p[0]));
     info->length_v = v3_len(v3_sub(s->p[3], s->p[0]));
     info->area = s->area;
+    info->triangle = s->triangle;
     return XRAD_OK;
 }

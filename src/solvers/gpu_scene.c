@@ -102,8 +102,11 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
             v->pos[1] = (float)c[tri[k]].y;
             v->pos[2] = (float)c[tri[k]].z;
             v->surface = s;
-            v->uv[0] = (float)((el->texel_x + 0.5) * inv_w);
-            v->uv[1] = (float)((el->texel_y + 0.5) * inv_h);
+            /* A triangle's apex is corners 2 and 3 (scene.h). */
+            float w = sf->triangle && tri[k] >= 2 ? 0.0f : 1.0f;
+            v->uvw[0] = (float)((el->texel_x + 0.5) * inv_w) * w;
+            v->uvw[1] = (float)((el->texel_y + 0.5) * inv_h);
+            v->uvw[2] = w;
             memcpy(v->tile, tile, sizeof(tile));
             v->normal[0] = (float)n.x;
             v->normal[1] = (float)n.y;

@@ -33,8 +33,13 @@ struct xrad_context;
 typedef struct gpu_scene_vertex {
     float pos[3];     /* m, world */
     uint32_t surface; /* surface index; ID hemicubes write surface + 1 */
-    float uv[2];      /* atlas coordinate of this corner's element texel centre */
-    float pad[2];
+    /* Atlas coordinate (u, v) of this corner's element texel centre as
+     * (u w, v, w): w is 1 at a quad's corners and 0 at a triangle's apex,
+     * and the fragment takes u = uvw.x / uvw.z, so that u across a
+     * triangle is the collapsed quad's s = b1 / (b0 + b1) (scene.h), not
+     * the linear b1 + b2 a plain uv would give. */
+    float uvw[3];
+    float pad;
     float tile[4];    /* atlas coordinates of the surface tile's first and last texel
                          centres (u0, v0, u1, v1): lookups clamp to them */
     float normal[4];  /* world unit normal of the surface's front side, w = 0 */
