@@ -3,7 +3,7 @@
 // value, is "nothing"). The radiosity variant's inputs are declared so that
 // both fragment stages consume what the shared vertex stage writes.
 layout(location = 0) flat in uint id;
-layout(location = 1) centroid in vec2 uv;
+layout(location = 1) centroid in vec3 uvw;
 layout(location = 2) flat in vec4 tile;
 layout(location = 3) flat in float front;
 layout(location = 4) in vec3 rel;

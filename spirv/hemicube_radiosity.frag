@@ -33,7 +33,7 @@ layout(push_constant) uniform Push { hemicube_push pc; };
 layout(binding = HEMICUBE_BINDING_ATLAS) uniform sampler2D atlas;
 
 layout(location = 0) flat in uint id; // unused: the ID variant writes it
-layout(location = 1) centroid in vec2 uv;
+layout(location = 1) centroid in vec3 uvw; // (u w, v, w): gpu_scene.h
 layout(location = 2) flat in vec4 tile;
 layout(location = 3) flat in float front;
 layout(location = 4) in vec3 rel;
@@ -55,6 +55,8 @@ vec4 round_to_half(vec4 v)
 
 void main()
 {
+    // u is undefined at a triangle's apex (w = 0): any u of the apex row.
+    vec2 uv = vec2(uvw.z > 0.0 ? uvw.x / uvw.z : tile.x, uvw.y);
     vec2 p = clamp(uv, tile.xy, tile.zw);
     vec3 b;
     if (CELLS != 0u) {

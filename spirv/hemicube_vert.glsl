@@ -15,12 +15,12 @@ layout(std430, binding = HEMICUBE_BINDING_COUNTS) readonly buffer Counts { uint 
 
 layout(location = HEMICUBE_ATTR_POS) in vec3 in_pos;
 layout(location = HEMICUBE_ATTR_SURFACE) in uint in_surface;
-layout(location = HEMICUBE_ATTR_UV) in vec2 in_uv;
+layout(location = HEMICUBE_ATTR_UV) in vec3 in_uvw; // (u w, v, w): gpu_scene.h
 layout(location = HEMICUBE_ATTR_TILE) in vec4 in_tile;
 layout(location = HEMICUBE_ATTR_NORMAL) in vec4 in_normal;
 
 layout(location = 0) flat out uint id;
-layout(location = 1) centroid out vec2 uv;
+layout(location = 1) centroid out vec3 uvw;
 layout(location = 2) flat out vec4 tile;
 layout(location = 3) flat out float front;
 layout(location = 4) out vec3 rel; // from the origin, m: the radiosity variant's distance
@@ -53,7 +53,7 @@ void main()
     // the eye: everything is clipped.
     gl_Position = live ? hemicube_clip(local, face, pc.near) : vec4(0.0, 0.0, 0.0, -1.0);
     id = in_surface + 1u;
-    uv = in_uv;
+    uvw = in_uvw;
     tile = in_tile;
     // Surfaces emit and reflect on their front side only (scene.h).
     front = dot(in_normal.xyz, o - in_pos) > 0.0 ? 1.0 : 0.0;
