@@ -200,8 +200,10 @@ static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
     if (mat == UINT32_MAX)
         st = import_material(c, mesh->mMaterialIndex, &mat);
     char name[SCENE_NAME_MAX];
-    snprintf(name, sizeof(name), "%.40s.%u", node->mName.length ? node->mName.data : "node",
-             c->instances++);
+    const char *base = c->desc->name           ? c->desc->name
+                       : node->mName.length ? node->mName.data
+                                            : "node";
+    snprintf(name, sizeof(name), "%.40s.%u", base, c->instances++);
     xrad_mesh_desc md = {.name = name,
                          .positions = pos,
                          .vertex_count = mesh->mNumVertices,

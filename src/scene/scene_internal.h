@@ -90,6 +90,7 @@ void scene_builder_warn(xrad_scene_builder *b, const char *fmt, ...) XRAD_PRINTF
 typedef struct scene_import_desc {
     const char *prefix;  /* material names are PREFIX/NAME */
     const char *node;    /* only this node's subtree; NULL: the whole file */
+    const char *name;    /* surfaces are NAME.i.k (mesh instance i); NULL: NODE.i.k */
     bool take_camera;    /* the file's first camera (or `camera`) becomes the scene's */
     const char *camera;
     uint32_t material;   /* every triangle's material; UINT32_MAX: the file's */

@@ -383,11 +383,66 @@ static xrad_status add_box(ctx *c, uint32_t mat, const char *name, const cJSON *
     return XRAD_OK;
 }
 
+/* "mesh": {"file": PATH, "node": NAME}: a model file's triangles (scene_import.c),
+ * PATH relative to the scene file's directory, all of them or one node's
+ * subtree, in this object's space; `mat` for every triangle, or
+ * UINT32_MAX for the file's own materials. */
+static xrad_status parse_mesh(ctx *c, const cJSON *j, const cJSON *mesh, uint32_t mat,
+                              const char *object_where)
+{
+    static const char *const keys[] = {"file", "node", NULL};
+    static const char *const surface_keys[] = {"name", "material", "mesh", "density", NULL};
+    xrad_status st = check_keys(c, j, "", surface_keys);
+    if (st)
+        return st;
+    if (!cJSON_IsObject(mesh))
+        return fail(c, "mesh", "must be an object {file, node}, got %s", type_name(mesh));
+    if ((st = check_keys(c, mesh, "mesh.", keys)))
+        return st;
+    const cJSON *file = member(mesh, "file"), *node = member(mesh, "node");
+    if (!file)
+        return fail(c, "mesh.file", "missing (required)");
+    if (!cJSON_IsString(file) || !file->valuestring[0])
+        return fail(c, "mesh.file", "must be a non-empty string, got %s", type_name(file));
+    if (node && !cJSON_IsString(node))
+        return fail(c, "mesh.node", "must be a string, got %s", type_name(node));
+    if (!scene_import_supported(file->valuestring))
+        return fail(c, "mesh.file", "'%.200s' is not a model file xrad reads (.gltf, .glb, "
+                    ".obj, .ply)", file->valuestring);
+    char path[1024];
+    const char *slash = strrchr(c->file, '/');
+    if (file->valuestring[0] != '/' && slash)
+        snprintf(path, sizeof(path), "%.*s/%s", (int)(slash - c->file), c->file,
+                 file->valuestring);
+    else
+        snprintf(path, sizeof(path), "%s", file->valuestring);
+    double density = 0;
+    bool has;
+    if ((st = get_density(c, j, "density", &density, &has)))
+        return st;
+    /* Material names: OBJECT.SURFACE/NAME, unique per placement. */
+    char prefix[SCENE_NAME_MAX], name[SCENE_NAME_MAX];
+    const cJSON *nm = member(j, "name");
+    snprintf(name, sizeof(name), "%s", cJSON_IsString(nm) ? nm->valuestring : "mesh");
+    /* object_where is "object 'NAME': ". */
+    const char *obj = object_where + strlen("object '");
+    int olen = (int)strlen(obj) - (int)strlen("': ");
+    snprintf(prefix, sizeof(prefix), "%.*s.%.10s", olen < 10 ? olen : 10, obj, name);
+    scene_import_desc d = {.prefix = prefix,
+                           .name = name,
+                           .node = node ? node->valuestring : NULL,
+                           .material = mat,
+                           .density = density};
+    if ((st = scene_import_model(c->b, path, &d, c->err)))
+        xrad_error_prefix(c->err, "%s: %s", c->file, c->where);
+    return st;
+}
+
 static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, uint32_t material_count,
                                  const char *object_where)
 {
-    static const char *const keys[] = {"name", "material", "quad", "vertices", "box",
-                                       "inward", "density", "elements", NULL};
+    static const char *const keys[] = {"name",   "material", "quad",    "vertices", "box",
+                                       "inward", "density",  "elements", "mesh",    NULL};
     snprintf(c->where, sizeof(c->where), "%ssurface #%u: ", object_where, index);
     if (!cJSON_IsObject(j))
         return fail(c, NULL, "must be an object, got %s", type_name(j));
@@ -401,7 +456,11 @@ static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, uint32_
     if ((st = check_keys(c, j, "", keys)))
         return st;
 
+    const cJSON *mesh = member(j, "mesh");
     char mat_name[SCENE_NAME_MAX];
+    /* A model file brings its own materials; "material" overrides them. */
+    if (mesh && !member(j, "material"))
+        return parse_mesh(c, j, mesh, UINT32_MAX, object_where);
     if ((st = get_name(c, j, "material", "material", 0, mat_name)))
         return st;
     name_ref key = {mat_name, 0};
@@ -420,14 +479,17 @@ static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, uint32_
     if (!found)
         return fail(c, "material", "unknown material '%s'", mat_name);
     uint32_t mat = found->index;
+    if (mesh)
+        return parse_mesh(c, j, mesh, mat, object_where);
 
     const cJSON *quad = member(j, "quad"), *verts = member(j, "vertices");
     int kinds = (quad != NULL) + (verts != NULL) + (box != NULL);
     if (kinds == 0)
-        return fail(c, "quad", "missing: a surface needs one of 'quad', 'vertices' or 'box'");
+        return fail(c, "quad",
+                    "missing: a surface needs one of 'quad', 'vertices', 'box' or 'mesh'");
     if (kinds > 1)
         return fail(c, quad ? "quad" : "vertices",
-                    "a surface has exactly one of 'quad', 'vertices' or 'box'");
+                    "a surface has exactly one of 'quad', 'vertices', 'box' or 'mesh'");
     bool inward = false;
     if ((st = get_bool(c, j, "inward", "inward", &inward)))
         return st;
