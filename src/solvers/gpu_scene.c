@@ -27,13 +27,24 @@ static void geometry_free(geometry *g)
 /* Buffers cannot be empty; a scene without surfaces still gets one entry. */
 static size_t at_least_one(size_t n) { return n ? n : 1; }
 
+/* Hemicube vertices of a surface: a quad's two triangles, a triangle's
+ * one (its second would be the collapsed one: vertex work for nothing,
+ * and vertex work is the hemicube's cost on lavapipe). */
+static uint32_t surface_vertices(const surface *sf)
+{
+    return sf->triangle ? 3 : 6;
+}
+
 static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_patches,
                                  double time, geometry *g, double *diameter, xrad_error *err)
 {
     memset(g, 0, sizeof(*g));
     g->surfaces = calloc(at_least_one(scene->surface_count), sizeof(*g->surfaces));
     g->elements = calloc(at_least_one(scene->element_count), sizeof(*g->elements));
-    g->vertices = calloc(at_least_one(6 * (size_t)scene->surface_count), sizeof(*g->vertices));
+    size_t vertex_count = 0;
+    for (uint32_t s = 0; s < scene->surface_count; s++)
+        vertex_count += surface_vertices(&scene->surfaces[s]);
+    g->vertices = calloc(at_least_one(vertex_count), sizeof(*g->vertices));
     if (!g->surfaces || !g->elements || !g->vertices) {
         geometry_free(g);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for the GPU scene",
@@ -43,9 +54,10 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
     /* Vertices of static surfaces first, so that a draw of the first
      * static_vertex_count vertices shows the static set C alone (the cross
      * method's back hemicubes, thesis 4.5.2). */
-    uint32_t static_slot = 0, dynamic_slot = 0;
+    size_t static_at = 0, dynamic_at = 0;
     for (uint32_t s = 0; s < scene->surface_count; s++)
-        dynamic_slot += scene->objects[scene->surfaces[s].object].dynamic ? 0 : 1;
+        if (!scene->objects[scene->surfaces[s].object].dynamic)
+            dynamic_at += surface_vertices(&scene->surfaces[s]);
     double inv_w = 1.0 / (scene->atlas_width ? scene->atlas_width : 1);
     double inv_h = 1.0 / (scene->atlas_height ? scene->atlas_height : 1);
     for (uint32_t s = 0; s < scene->surface_count; s++) {
@@ -94,10 +106,12 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
         float tile[4] = {(float)((e0->texel_x + 0.5) * inv_w), (float)((e0->texel_y + 0.5) * inv_h),
                          (float)((e1->texel_x + 0.5) * inv_w), (float)((e1->texel_y + 0.5) * inv_h)};
         static const int tri[6] = {0, 1, 2, 0, 2, 3};
-        uint32_t slot = gsf->dynamic ? dynamic_slot++ : static_slot++;
-        for (int k = 0; k < 6; k++) {
+        uint32_t nv = surface_vertices(sf);
+        size_t at = gsf->dynamic ? dynamic_at : static_at;
+        *(gsf->dynamic ? &dynamic_at : &static_at) += nv;
+        for (uint32_t k = 0; k < nv; k++) {
             const element *el = &scene->elements[sf->first_element + ci[tri[k]]];
-            gpu_scene_vertex *v = &g->vertices[6 * (size_t)slot + k];
+            gpu_scene_vertex *v = &g->vertices[at + k];
             v->pos[0] = (float)c[tri[k]].x;
             v->pos[1] = (float)c[tri[k]].y;
             v->pos[2] = (float)c[tri[k]].z;
@@ -254,9 +268,11 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
     out->surface_count = scene->surface_count;
     out->element_count = scene->element_count;
     out->material_count = scene->material_count;
-    out->vertex_count = 6 * scene->surface_count;
-    for (uint32_t k = 0; k < scene->surface_count; k++)
-        out->static_vertex_count += scene->objects[scene->surfaces[k].object].dynamic ? 0 : 6;
+    for (uint32_t k = 0; k < scene->surface_count; k++) {
+        uint32_t n = surface_vertices(&scene->surfaces[k]);
+        out->vertex_count += n;
+        out->static_vertex_count += scene->objects[scene->surfaces[k].object].dynamic ? 0 : n;
+    }
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_SRC_BIT;

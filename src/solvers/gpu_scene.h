@@ -29,7 +29,8 @@ static inline vec4 gpu_vec4(vec3 v, double w)
 
 struct xrad_context;
 
-/* One hemicube vertex: whole surfaces as two triangles each. */
+/* One hemicube vertex: whole surfaces, a quad as two triangles, a triangle
+ * as itself. */
 typedef struct gpu_scene_vertex {
     float pos[3];     /* m, world */
     uint32_t surface; /* surface index; ID hemicubes write surface + 1 */
@@ -49,7 +50,8 @@ typedef struct gpu_scene {
     const xrad_scene *scene;
     double time; /* pose the buffers hold */
     uint32_t surface_count, element_count, material_count;
-    uint32_t vertex_count;     /* 6 per surface: static surfaces first, then dynamic ones */
+    uint32_t vertex_count;     /* 6 per quad, 3 per triangle: static surfaces first, then
+                                  dynamic ones */
     uint32_t static_vertex_count; /* those of static surfaces (set C) */
     gpu_buffer surfaces;       /* struct gpu_surface[surface_count] */
     gpu_buffer elements;       /* struct gpu_element[element_count] */
