@@ -259,11 +259,27 @@ typedef void (*xrad_progress_fn)(void *user, const char *stage, double fraction)
 
 /* The CPU reference solver: independent of the GPU code. Zero means default
  * in every field. */
+/* How the reference decides what an element sees of another. */
+#define XRAD_REFERENCE_CLIP_SURFACES 256
+typedef enum xrad_visibility {
+    /* Clipping for scenes of up to XRAD_REFERENCE_CLIP_SURFACES surfaces,
+     * rays beyond (clipping culls occluders pair by pair, O(elements x
+     * surfaces^2)). */
+    XRAD_VISIBILITY_AUTO = 0,
+    /* Exact: the visible part of each cell cut out by polygon clipping;
+     * rays only where clipping gives up. */
+    XRAD_VISIBILITY_CLIP,
+    /* Every pair's visible fraction from `rays` stratified rays, traced
+     * through a BVH (Embree): a Monte Carlo estimate that scales to meshes. */
+    XRAD_VISIBILITY_RAYS,
+} xrad_visibility;
+
 typedef struct xrad_reference_desc {
     double time;            /* s, scene time at which dynamic objects are posed; default 0 */
-    uint32_t rays;          /* visibility is exact (polygon clipping); rays per element pair
-                               where clipping gives up (a shadow of too many pieces, a
-                               nearly edge-on occluder), rare; default 16 */
+    xrad_visibility visibility; /* default AUTO */
+    uint32_t rays;          /* clipping: rays per element pair where clipping gives up (a
+                               shadow of too many pieces, a nearly edge-on occluder), rare;
+                               default 16. Rays: rays per pair, default 64 */
     double residual;        /* stop when, in every RGB channel, max |delta B| / max B of a
                                sweep < this; default 1e-6 */
     uint32_t max_sweeps;    /* Gauss-Seidel sweeps at most; default 100000 */
@@ -278,6 +294,8 @@ typedef struct xrad_reference_stats {
     uint32_t sweeps;
     double residual;            /* achieved */
     double max_row_sum;         /* largest sum_j F_ij, a closure check */
+    xrad_visibility visibility; /* the one used: CLIP or RAYS */
+    uint32_t rays;              /* rays per pair (RAYS), or where clipping gave up (CLIP) */
 } xrad_reference_stats;
 
 /* Solves B = E + rho F B for all elements; writes B into `atlas` (created

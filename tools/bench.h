@@ -12,6 +12,8 @@ typedef struct bench_opts {
     int scene_count;
     const char *methods, *json, *cache, *device;
     uint32_t repeat, width, height, ref_rays, max_ref_elements;
+    xrad_visibility ref_visibility; /* --reference-visibility */
+    bool ref_rays_set;              /* --reference-rays given */
     double time, fps;
     method_settings m;
     const char *sweep;          /* NULL, "one" or "grid" */

@@ -33,7 +33,9 @@ static void help(void)
            "  --repeat N         timed frames per scene and method; the median is reported [3]\n"
            "  --time T, --fps F  start pose (s) and frame rate of scene time [0, 30]\n"
            "  --width N, --height N   image size for the image figures [the scene camera's]\n"
-           "  --reference-rays N CPU reference rays where clipping gives up [32]\n"
+           "  --reference-rays N CPU reference rays where clipping gives up [32]; with rays\n"
+           "                     visibility, per pair [64]\n"
+           "  --reference-visibility V  auto, clip or rays (xrad render --help) [auto]\n"
            "  --cache DIR        where references are kept [out/bench-cache]\n"
            "  --max-reference-elements N  above this element count the reference is a\n"
            "                     high-quality GPU gather (hemicube 128, 4x MSAA, threshold\n"
@@ -193,11 +195,17 @@ xrad_status bench_reference_get(xrad_context *ctx, const char *path, const xrad_
     xrad_scene_get_info(scene, &info);
     bool cpu = info.elements <= o->max_ref_elements;
     char settings[256];
+    /* The visibility as the solver will resolve it (xrad.h), in the cache
+     * key: images of one are not reused for the other. Rays visibility
+     * takes the library's rays per pair unless --reference-rays says. */
+    xrad_visibility vis = o->ref_visibility;
+    if (vis == XRAD_VISIBILITY_AUTO)
+        vis = info.surfaces > XRAD_REFERENCE_CLIP_SURFACES ? XRAD_VISIBILITY_RAYS
+                                                           : XRAD_VISIBILITY_CLIP;
+    uint32_t rays = vis == XRAD_VISIBILITY_RAYS && !o->ref_rays_set ? 64 : o->ref_rays;
     if (cpu)
-        /* "visibility=clip": the exact visibility of the reference solver;
-         * images cached from its ray-estimated visibility are not reused. */
-        snprintf(settings, sizeof(settings), "cpu-reference rays=%u residual=1e-7 visibility=clip",
-                 o->ref_rays);
+        snprintf(settings, sizeof(settings), "cpu-reference rays=%u residual=1e-7 visibility=%s",
+                 rays, method_visibility_name(vis));
     else
         snprintf(settings, sizeof(settings), "gather res=128 msaa=4 threshold=1e-5");
     snprintf(ref->kind, sizeof(ref->kind), "%s", cpu ? "cpu-reference" : "gather-high");
@@ -227,7 +235,8 @@ xrad_status bench_reference_get(xrad_context *ctx, const char *path, const xrad_
         return st;
     ref->elements = info.elements;
     method_settings m = {0};
-    m.reference.rays = o->ref_rays;
+    m.reference.rays = rays;
+    m.reference.visibility = vis;
     m.reference.residual = 1e-7;
     m.solver.hemicube_res = 128;
     m.solver.msaa = 4;
@@ -312,7 +321,9 @@ static int parse(int argc, char **argv, bench_opts *o)
         } else if (!strcmp(opt, "height")) {
             cli_uint(&a, 1, 16384, &o->height);
         } else if (!strcmp(opt, "reference-rays")) {
-            cli_uint(&a, 1, 4096, &o->ref_rays);
+            o->ref_rays_set = cli_uint(&a, 1, 4096, &o->ref_rays);
+        } else if (!strcmp(opt, "reference-visibility")) {
+            method_visibility_option(&a, &o->ref_visibility);
         } else if (!strcmp(opt, "max-reference-elements")) {
             cli_uint(&a, 0, 100000, &o->max_ref_elements);
         } else if (!strcmp(opt, "time")) {

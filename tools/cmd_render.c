@@ -33,7 +33,11 @@ static void help(void)
            "  --fps F           frames per second of scene time [30]\n"
            "  --frame-out DIR   also write every frame as DIR/frame-NNNN.png\n"
            "  --nearest         show elements as flat squares (no interpolation)\n"
-           "  --rays N          reference: rays per element pair where clipping gives up [16]\n"
+           "  --visibility V    reference: clip (exact polygon clipping), rays (every pair\n"
+           "                    by --rays rays through an Embree BVH: meshes), auto (clip up\n"
+           "                    to 256 surfaces) [auto]\n"
+           "  --rays N          reference: rays per element pair where clipping gives up\n"
+           "                    [16]; with rays visibility, per pair [64]\n"
            "  --residual R      reference: Gauss-Seidel stop, max|dB|/max B per sweep [1e-6]\n"
            "  --threads N       reference: worker threads [online cores]\n"
            "  --device NAME     Vulkan device (substring; see xrad devices)\n"
@@ -110,6 +114,8 @@ static int parse(int argc, char **argv, render_opts *o)
             o->nearest = 1;
         } else if (!strcmp(opt, "rays")) {
             cli_uint(&a, 1, 4096, &o->m.reference.rays);
+        } else if (!strcmp(opt, "visibility")) {
+            method_visibility_option(&a, &o->m.reference.visibility);
         } else if (!strcmp(opt, "residual")) {
             cli_double(&a, 1e-15, 1, &o->m.reference.residual);
         } else if (!strcmp(opt, "threads")) {
@@ -252,7 +258,10 @@ int cmd_render(int argc, char **argv)
     if (res.gpu)
         method_print_passes(&res);
     else
-        printf("reference: form factors %.3f s, Gauss-Seidel %.3f s, %u sweeps, residual %.2g\n",
+        printf("reference: visibility %s (%u rays%s), form factors %.3f s, Gauss-Seidel %.3f s, "
+               "%u sweeps, residual %.2g\n",
+               method_visibility_name(res.ref.visibility), res.ref.rays,
+               res.ref.visibility == XRAD_VISIBILITY_RAYS ? " a pair" : " where clipping gives up",
                res.ref.form_factor_seconds, res.ref.solve_seconds, res.ref.sweeps,
                res.ref.residual);
     printf("time: load %.3f s, device %.3f s, solve %.3f s, display %.3f s, total %.3f s\n",

@@ -9,6 +9,28 @@
  * public API does not give (xrad view reads the built scene the same way). */
 #include "scene/scene.h"
 
+bool method_visibility_option(cli_args *a, xrad_visibility *out)
+{
+    const char *v = cli_value(a);
+    if (!v)
+        return false;
+    static const char *const names[] = {"auto", "clip", "rays"};
+    for (int k = 0; k < 3; k++) {
+        if (!strcmp(v, names[k])) {
+            *out = (xrad_visibility)k;
+            return true;
+        }
+    }
+    cli_usage_error(a->command, "--%s: '%s' is none of auto, clip, rays", a->opt, v);
+    a->failed = true;
+    return false;
+}
+
+const char *method_visibility_name(xrad_visibility v)
+{
+    return v == XRAD_VISIBILITY_CLIP ? "clip" : v == XRAD_VISIBILITY_RAYS ? "rays" : "auto";
+}
+
 const char *method_list(void) { return "reference, gather, progressive, incremental, cross"; }
 
 int method_known(const char *name)

@@ -46,6 +46,12 @@ typedef struct method_result {
     xrad_reference_stats ref;
 } method_result;
 
+/* --visibility's value (auto, clip, rays) into *out; a usage error
+ * otherwise. */
+bool method_visibility_option(cli_args *a, xrad_visibility *out);
+/* "clip" or "rays" (the resolved modes), "auto". */
+const char *method_visibility_name(xrad_visibility v);
+
 /* "reference, gather, progressive, incremental, cross" */
 const char *method_list(void);
 /* 1 if `name` is a method this build has. */

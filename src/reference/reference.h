@@ -15,6 +15,12 @@
  * F(x_i -> cell_j) * V_ij instead, where V_ij is the visible fraction of
  * `rays` segments from x_i to stratified points of cell_j (raycast.h), each
  * segment weighted by the form factor integrand at its end point.
+ *
+ * Clipping culls occluder candidates by a loop over every quad for every
+ * (receiver, surface) pair: O(N S^2) for N elements and S surfaces, fine for
+ * quad scenes (S < 100), an hour for a mesh of a thousand triangles. Beyond
+ * XRAD_REFERENCE_CLIP_SURFACES surfaces (or when asked) every pair takes the ray
+ * estimate instead, through Embree's BVH (embree_rays.h): O(N^2 rays log S).
  */
 #ifndef XRAD_REFERENCE_REFERENCE_H
 #define XRAD_REFERENCE_REFERENCE_H
@@ -22,6 +28,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "reference/embree_rays.h"
 #include "reference/raycast.h"
 #include "reference/shadow.h"
 #include "scene/scene.h"
@@ -40,13 +47,17 @@ typedef struct ref_geometry {
     vec3 *origin;          /* per element, the rays' origin: recv a hair along normal */
     vec3 *normal;          /* per element, unit (world) */
     vec3 (*cell)[4];       /* per element, its cell's world corners, wound like its surface */
+    ref_rays *bvh;         /* rays visibility (XRAD_VISIBILITY_RAYS): every pair by `rays`
+                              Embree rays; NULL: exact clipping */
 } ref_geometry;
 
 /* Ray origins sit this fraction of the scene's diagonal above the surface. */
 #define REF_RAY_HAIR 1e-7
 
-/* Builds the world-space geometry at scene time `time`. */
-xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t rays,
+
+/* Builds the world-space geometry at scene time `time`; with `bvh`, also
+ * the ray BVH (rays visibility). */
+xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t rays, bool bvh,
                                 ref_geometry **out, xrad_error *err);
 void ref_geometry_destroy(ref_geometry **geometry);
 

@@ -15,6 +15,8 @@
 #include "reference/ff_kernel.h"
 
 #define DEFAULT_RAYS 16
+/* Rays visibility: every pair's visible fraction is this many rays'. */
+#define DEFAULT_RAYS_EVERY_PAIR 64
 #define DEFAULT_RESIDUAL 1e-6
 #define DEFAULT_MAX_SWEEPS 100000
 #define MAX_RAYS 65536
@@ -54,11 +56,12 @@ void ref_geometry_destroy(ref_geometry **geometry)
     free(g->origin);
     free(g->normal);
     free(g->cell);
+    ref_rays_destroy(&g->bvh);
     free(g);
     *geometry = NULL;
 }
 
-xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t rays,
+xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t rays, bool bvh,
                                 ref_geometry **out, xrad_error *err)
 {
     *out = NULL;
@@ -135,6 +138,11 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
         g->cell[e][2] = bilinear(q->p, s1, t1);
         g->cell[e][3] = bilinear(q->p, s0, t1);
     }
+    xrad_status st;
+    if (bvh && (st = ref_rays_create(g->quads, ns, g->scale, &g->bvh, err))) {
+        ref_geometry_destroy(&g);
+        return st;
+    }
     *out = g;
     return XRAD_OK;
 }
@@ -147,7 +155,7 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
  * converge to the exact visible form factor as rays grow; an unweighted
  * fraction of the cell's area converges to a biased value where a cell is
  * large next to its distance to x_i. Only the `count` candidate quads are
- * tested. */
+ * tested, or with g->bvh every quad through Embree. */
 static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const uint32_t *cand,
                          uint32_t count)
 {
@@ -155,19 +163,34 @@ static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const ui
     vec3 p = g->recv[i], n = g->normal[i], nj = g->normal[j];
     double seen = 0, total = 0;
     uint32_t open = 0;
-    for (uint32_t k = 0; k < g->rays; k++) {
-        double s, t;
-        ref_sample(seed, k, g->rays, &s, &t);
-        vec3 target = bilinear(g->cell[j], s, t);
-        bool blocked = false;
-        for (uint32_t c = 0; c < count && !blocked; c++)
-            blocked = ref_segment_hits_quad(&g->quads[cand[c]], g->origin[i], target);
-        vec3 r = v3_sub(target, p);
-        double r2 = v3_dot(r, r);
-        double w = r2 > 0 ? fmax(0.0, v3_dot(n, r)) * fmax(0.0, -v3_dot(nj, r)) / (r2 * r2) : 0;
-        total += w;
-        seen += blocked ? 0 : w;
-        open += !blocked;
+    for (uint32_t k0 = 0; k0 < g->rays; k0 += REF_RAYS_BATCH) {
+        uint32_t m = g->rays - k0 < REF_RAYS_BATCH ? g->rays - k0 : REF_RAYS_BATCH;
+        vec3 target[REF_RAYS_BATCH];
+        bool blocked[REF_RAYS_BATCH];
+        for (uint32_t k = 0; k < m; k++) {
+            double s, t;
+            ref_sample(seed, k0 + k, g->rays, &s, &t);
+            target[k] = bilinear(g->cell[j], s, t);
+        }
+        if (g->bvh) {
+            ref_rays_occluded(g->bvh, g->surface_of[i], g->surface_of[j], g->origin[i], target, m,
+                              blocked);
+        } else {
+            for (uint32_t k = 0; k < m; k++) {
+                blocked[k] = false;
+                for (uint32_t c = 0; c < count && !blocked[k]; c++)
+                    blocked[k] = ref_segment_hits_quad(&g->quads[cand[c]], g->origin[i], target[k]);
+            }
+        }
+        for (uint32_t k = 0; k < m; k++) {
+            vec3 r = v3_sub(target[k], p);
+            double r2 = v3_dot(r, r);
+            double w =
+                r2 > 0 ? fmax(0.0, v3_dot(n, r)) * fmax(0.0, -v3_dot(nj, r)) / (r2 * r2) : 0;
+            total += w;
+            seen += blocked[k] ? 0 : w;
+            open += !blocked[k];
+        }
     }
     /* No sample where the integrand is positive (a sliver of the cell above
      * the tangent plane): fall back to the plain fraction. */
@@ -218,6 +241,19 @@ double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
             above = above || v3_dot(n, v3_sub(qs->p[k], p)) > 0;
         if (!above)
             continue;
+        uint32_t first = g->surface_first[S], last = first + g->surface_elements[S];
+        if (g->bvh) {
+            /* Rays: every cell through the BVH, no candidate culling (which
+             * loops over every quad for every surface, O(S^2) a row). */
+            for (uint32_t j = first; j < last; j++) {
+                double f = ref_ff_point_polygon(p, n, g->cell[j], 4);
+                if (!(f > 0))
+                    continue;
+                row[j] = (float)(f * visibility(g, i, j, NULL, 0));
+                sum += row[j];
+            }
+            continue;
+        }
         /* Occluders: quads that may meet some segment from the origin to S.
          * Neither i's own planar surface nor S itself can block such a
          * segment (it leaves one and ends on the other). */
@@ -231,7 +267,6 @@ double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
         for (uint32_t c = 0; c < nc; c++)
             if (!ref_cone_init(&cone[c], &g->quads[cand[c]], p, qs->p[0], qs->normal, g->tol))
                 clip = false;
-        uint32_t first = g->surface_first[S], last = first + g->surface_elements[S];
         for (uint32_t j = first; j < last; j++) {
             double f = ref_ff_point_polygon(p, n, g->cell[j], 4);
             if (!(f > 0))
@@ -310,8 +345,8 @@ static uint32_t default_threads(void)
     return cores > 0 ? (uint32_t)cores : 1;
 }
 
-static xrad_status check_desc(const xrad_reference_desc *in, xrad_reference_desc *d,
-                              xrad_error *err)
+static xrad_status check_desc(const xrad_scene *scene, const xrad_reference_desc *in,
+                              xrad_reference_desc *d, xrad_error *err)
 {
     *d = in ? *in : (xrad_reference_desc){0};
     if (!isfinite(d->time))
@@ -322,7 +357,13 @@ static xrad_status check_desc(const xrad_reference_desc *in, xrad_reference_desc
     if (d->rays > MAX_RAYS)
         return xrad_fail(err, XRAD_ERROR_INPUT, "reference: %u rays per pair (at most %u)", d->rays,
                          MAX_RAYS);
-    d->rays = d->rays ? d->rays : DEFAULT_RAYS;
+    if (d->visibility > XRAD_VISIBILITY_RAYS)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "reference: visibility %d is none of auto, clip, rays",
+                         (int)d->visibility);
+    bool rays = d->visibility == XRAD_VISIBILITY_RAYS ||
+                (d->visibility == XRAD_VISIBILITY_AUTO && scene->surface_count > XRAD_REFERENCE_CLIP_SURFACES);
+    d->visibility = rays ? XRAD_VISIBILITY_RAYS : XRAD_VISIBILITY_CLIP;
+    d->rays = d->rays ? d->rays : rays ? DEFAULT_RAYS_EVERY_PAIR : DEFAULT_RAYS;
     d->residual = d->residual > 0 ? d->residual : DEFAULT_RESIDUAL;
     d->max_sweeps = d->max_sweeps ? d->max_sweeps : DEFAULT_MAX_SWEEPS;
     d->threads = d->threads ? d->threads : default_threads();
@@ -335,7 +376,7 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
 {
     *F = NULL;
     xrad_reference_desc d;
-    xrad_status st = check_desc(desc, &d, err);
+    xrad_status st = check_desc(scene, desc, &d, err);
     if (st)
         return st;
     uint64_t n = scene->element_count;
@@ -348,7 +389,7 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
                          REF_MATRIX_MAX_BYTES / 1073741824.0);
     double t0 = now_seconds();
     ref_geometry *g = NULL;
-    st = ref_geometry_create(scene, d.time, d.rays, &g, err);
+    st = ref_geometry_create(scene, d.time, d.rays, d.visibility == XRAD_VISIBILITY_RAYS, &g, err);
     if (st)
         return st;
 
@@ -394,6 +435,8 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
         for (uint64_t i = 0; i < n; i++)
             stats->max_row_sum = fmax(stats->max_row_sum, job.row_sum[i]);
         stats->form_factor_seconds = now_seconds() - t0;
+        stats->visibility = d.visibility;
+        stats->rays = d.rays;
     }
     *F = job.F;
     job.F = NULL;
@@ -481,7 +524,7 @@ xrad_status xrad_reference_solve(const xrad_scene *scene, const xrad_reference_d
                          "reference: atlas is %ux%u, the scene's is %ux%u (use xrad_atlas_create)",
                          atlas->width, atlas->height, scene->atlas_width, scene->atlas_height);
     xrad_reference_desc d;
-    xrad_status st = check_desc(desc, &d, err);
+    xrad_status st = check_desc(scene, desc, &d, err);
     if (st)
         return st;
     xrad_reference_stats local = {0};

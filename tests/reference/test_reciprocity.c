@@ -76,7 +76,7 @@ static void test_reciprocity(void)
         return;
     ref_geometry *g = NULL;
     xrad_error err = {0};
-    xrad_status st = ref_geometry_create(scene, 0, 16, &g, &err);
+    xrad_status st = ref_geometry_create(scene, 0, 16, false, &g, &err);
     CHECK(st == XRAD_OK, "geometry: %s", err.message);
     if (st) {
         xrad_scene_destroy(&scene);

@@ -151,7 +151,7 @@ static void test_threads(void)
         /* The panel does shadow: some pair is partly visible. */
         int partial = 0;
         ref_geometry *g = NULL;
-        if (ref_geometry_create(scene, 0, 16, &g, &err) == XRAD_OK) {
+        if (ref_geometry_create(scene, 0, 16, false, &g, &err) == XRAD_OK) {
             for (size_t i = 0; i < n && !partial; i++)
                 for (size_t j = 0; j < n && !partial; j++) {
                     double f = ref_ff_point_polygon(g->recv[i], g->normal[i], g->cell[j], 4);
