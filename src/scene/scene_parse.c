@@ -383,20 +383,51 @@ static xrad_status add_box(ctx *c, uint32_t mat, const char *name, const cJSON *
     return XRAD_OK;
 }
 
-/* "mesh": {"file": PATH, "node": NAME}: a model file's triangles (scene_import.c),
- * PATH relative to the scene file's directory, all of them or one node's
- * subtree, in this object's space; `mat` for every triangle, or
- * UINT32_MAX for the file's own materials. */
+/* "mesh.scale" range: micrometres to metres and back, with room to spare.
+ * The bound below keeps a model's areas from underflowing to zero; the
+ * coordinates a scale gives are checked against SCENE_MAX_COORD. */
+#define MESH_MIN_SCALE 1e-6
+#define MESH_MAX_SCALE 1e6
+
+/* Scales the surfaces [first, sc->surface_count) about the object's origin
+ * by `scale`: their corners, areas and planarisation offsets. Their sample
+ * counts were already made for the scaled size (parse_mesh). Every test the
+ * builder made on them (degenerate, coplanar, convex, joined pairs) is
+ * relative to their size, so it holds at any scale. */
+static xrad_status scale_surfaces(ctx *c, uint32_t first, double scale)
+{
+    xrad_scene *sc = scene_builder_scene(c->b);
+    for (uint32_t i = first; i < sc->surface_count; i++) {
+        surface *s = &sc->surfaces[i];
+        for (int k = 0; k < 4; k++) {
+            s->p[k] = v3_scale(s->p[k], scale);
+            s->planarise_dist[k] *= scale;
+            xrad_status st = check_coord(c, "mesh.scale", s->p[k]);
+            if (st)
+                return st;
+        }
+        s->area *= scale * scale;
+        s->planarise_offset *= scale;
+    }
+    return XRAD_OK;
+}
+
+/* "mesh": {"file": PATH, "node": NAME, "scale": S}: a model file's
+ * triangles (scene_import.c), PATH relative to the scene file's directory
+ * (or absolute), all of them or one node's subtree, times S, in this
+ * object's space; `mat` for every triangle, or UINT32_MAX for the file's
+ * own materials. */
 static xrad_status parse_mesh(ctx *c, const cJSON *j, const cJSON *mesh, uint32_t mat,
                               const char *object_where)
 {
-    static const char *const keys[] = {"file", "node", NULL};
+    static const char *const keys[] = {"file", "node", "scale", NULL};
     static const char *const surface_keys[] = {"name", "material", "mesh", "density", NULL};
     xrad_status st = check_keys(c, j, "", surface_keys);
     if (st)
         return st;
     if (!cJSON_IsObject(mesh))
-        return fail(c, "mesh", "must be an object {file, node}, got %s", type_name(mesh));
+        return fail(c, "mesh", "must be an object {file, node, scale}, got %s",
+                    type_name(mesh));
     if ((st = check_keys(c, mesh, "mesh.", keys)))
         return st;
     const cJSON *file = member(mesh, "file"), *node = member(mesh, "node");
@@ -416,10 +447,29 @@ static xrad_status parse_mesh(ctx *c, const cJSON *j, const cJSON *mesh, uint32_
                  file->valuestring);
     else
         snprintf(path, sizeof(path), "%s", file->valuestring);
-    double density = 0;
+    double density = 0, scale = 1;
     bool has;
-    if ((st = get_density(c, j, "density", &density, &has)))
+    if ((st = get_density(c, j, "density", &density, &has)) ||
+        (st = get_number(c, mesh, "scale", "mesh.scale", false, &scale, &has)))
         return st;
+    if (!(scale >= MESH_MIN_SCALE) || scale > MESH_MAX_SCALE)
+        return fail(c, "mesh.scale", "must be in [%g, %g] (a factor on the model's metres), "
+                    "got %g", MESH_MIN_SCALE, MESH_MAX_SCALE, scale);
+    /* scene_import.c takes no scale: the model comes in at its own size
+     * and is scaled here once it is in. Its sample counts are made then, so
+     * the density it gets is the one meant for the scaled model times the
+     * scale (an edge L long in the file is L x scale in the scene), divided
+     * by the density scale the builder applies to it again. */
+    if (scale != 1) {
+        double d;
+        if ((st = scene_builder_surface_density(c->b, c->where, density, &d, c->err)))
+            return st;
+        density = d * scale / c->density_scale;
+        if (d * scale > SCENE_MAX_DENSITY || density > SCENE_MAX_DENSITY)
+            return fail(c, "mesh.scale", "%g elements per metre at scale %g is %g per metre "
+                        "of the model file, more than %g", d, scale, d * scale,
+                        SCENE_MAX_DENSITY);
+    }
     /* Material names: OBJECT.SURFACE/NAME, unique per placement. */
     char prefix[SCENE_NAME_MAX], name[SCENE_NAME_MAX];
     const cJSON *nm = member(j, "name");
@@ -433,9 +483,14 @@ static xrad_status parse_mesh(ctx *c, const cJSON *j, const cJSON *mesh, uint32_
                            .node = node ? node->valuestring : NULL,
                            .material = mat,
                            .density = density};
-    if ((st = scene_import_model(c->b, path, &d, c->err)))
-        xrad_error_prefix(c->err, "%s: %s", c->file, c->where);
-    return st;
+    uint32_t first = scene_builder_scene(c->b)->surface_count;
+    if ((st = scene_import_model(c->b, path, &d, c->err))) {
+        /* c->where ends in ": ", which xrad_error_prefix adds itself. */
+        size_t wl = strlen(c->where);
+        xrad_error_prefix(c->err, "%s: %.*s", c->file, (int)(wl >= 2 ? wl - 2 : wl), c->where);
+        return st;
+    }
+    return scale != 1 ? scale_surfaces(c, first, scale) : XRAD_OK;
 }
 
 static xrad_status parse_surface(ctx *c, const cJSON *j, uint32_t index, uint32_t material_count,

@@ -80,8 +80,227 @@ static void check_shell_faces_in(const char *rel, const xrad_scene *sc, vec3 cen
     CHECK(checked >= 6, "%s: only %u shell surfaces found", rel, checked);
 }
 
+/* "element face N" of a PLY file's header: its polygon count, read here
+ * without assimp. 0 if the file or the line is missing. */
+static uint32_t ply_face_count(const char *path)
+{
+    FILE *f = fopen(path, "rb");
+    CHECK(f != NULL, "%s (package assimp-testmodels, tools/setup.sh) cannot be opened", path);
+    if (!f)
+        return 0;
+    char line[256];
+    unsigned faces = 0;
+    while (fgets(line, sizeof(line), f) && strncmp(line, "end_header", 10) != 0)
+        if (sscanf(line, "element face %u", &faces) == 1)
+            break;
+    fclose(f);
+    return faces;
+}
+
+/* World-space bounds and total area of object o's surfaces at time t. */
+static double object_extent(const xrad_scene *sc, uint32_t o, double t, vec3 *lo, vec3 *hi)
+{
+    const object *ob = &sc->objects[o];
+    double area = 0;
+    *lo = v3(1e30, 1e30, 1e30);
+    *hi = v3(-1e30, -1e30, -1e30);
+    for (uint32_t k = 0; k < ob->surface_count; k++) {
+        vec3 c[4], n;
+        scene_surface_world(sc, ob->first_surface + k, t, c, &n);
+        for (int i = 0; i < 4; i++) {
+            *lo = v3(fmin(lo->x, c[i].x), fmin(lo->y, c[i].y), fmin(lo->z, c[i].z));
+            *hi = v3(fmax(hi->x, c[i].x), fmax(hi->y, c[i].y), fmax(hi->z, c[i].z));
+        }
+        area += sc->surfaces[ob->first_surface + k].area;
+    }
+    return area;
+}
+
+static uint32_t object_index(const xrad_scene *sc, const char *name)
+{
+    for (uint32_t o = 0; o < sc->object_count; o++)
+        if (!strcmp(sc->objects[o].name, name))
+            return o;
+    CHECK(0, "no object '%s'", name);
+    return 0;
+}
+
+/* The scenes with model files (scenes/README.md "Meshes"). */
+static void mesh_scenes(void)
+{
+    /* wuson-room: the Cornell room's 9 quads and Debian's Wuson.ply, whose
+     * header says 3732 triangles; the loader joins coplanar pairs into
+     * quads, so triangles + 2 x joined quads is the header's count. The
+     * mesh is placed at "scale": 0.13, so its bounds and area are those of
+     * the model loaded by itself times 0.13 and 0.13^2. */
+    const char *wuson = "/usr/share/assimp/models/PLY/Wuson.ply";
+    uint32_t faces = ply_face_count(wuson);
+    CHECK(faces == 3732, "%s: header says %u faces", wuson, faces);
+    xrad_scene *sc = load("scenes/wuson-room.json"), *model = NULL;
+    xrad_error err = {0};
+    CHECK(xrad_scene_load(wuson, &model, &err) == XRAD_OK, "%s: %s", wuson, err.message);
+    if (sc && model) {
+        xrad_scene_info in, mi;
+        xrad_scene_get_info(sc, &in);
+        xrad_scene_get_info(model, &mi);
+        uint32_t w = object_index(sc, "wuson");
+        uint32_t room_quads = 9, mesh_surfaces = sc->objects[w].surface_count;
+        uint32_t joined = in.surfaces - in.triangles - room_quads;
+        CHECK(in.surfaces == room_quads + mesh_surfaces, "wuson-room: %u surfaces", in.surfaces);
+        CHECK(in.triangles + 2 * joined + in.skipped_triangles == faces,
+              "wuson-room: %u triangles + 2 x %u quads + %u skipped, the file has %u",
+              in.triangles, joined, in.skipped_triangles, faces);
+        CHECK(in.dynamic_objects == 0 && in.planarised == 0, "wuson-room: static, planar");
+        /* Every triangle has at least 2 x 2 samples: the floor of the count. */
+        uint32_t mesh_elements = 0;
+        const object *ob = &sc->objects[w];
+        for (uint32_t k = 0; k < ob->surface_count; k++) {
+            const surface *sf = &sc->surfaces[ob->first_surface + k];
+            mesh_elements += sf->nu * sf->nv;
+        }
+        CHECK(mesh_elements >= 4 * mesh_surfaces && in.elements <= 30000,
+              "wuson-room: %u mesh elements for %u surfaces, %u in all", mesh_elements,
+              mesh_surfaces, in.elements);
+        vec3 lo, hi, mlo, mhi;
+        double area = object_extent(sc, w, 0, &lo, &hi);
+        double marea = object_extent(model, 0, 0, &mlo, &mhi);
+        CHECK_REL(hi.y - lo.y, 0.13 * (mhi.y - mlo.y), 1e-6);
+        CHECK_REL(area, 0.13 * 0.13 * marea, 1e-6);
+        CHECK_ABS(lo.y, 0.13 * mlo.y, 1e-6); /* it stands on the floor */
+        CHECK(lo.x > 0 && hi.x < 0.556 && lo.z > 0 && hi.z < 0.5592,
+              "wuson-room: the model is not inside the room");
+        check_positive("wuson-room", sc);
+        check_shell_faces_in("wuson-room", sc, v3(0.278, 0.2744, 0.2796));
+        fprintf(stderr, "wuson-room: %u surfaces (%u triangles), %u elements (mesh %u), "
+                "atlas %u x %u\n", in.surfaces, in.triangles, in.elements, mesh_elements,
+                in.atlas_width, in.atlas_height);
+    }
+    xrad_scene_destroy(&sc);
+    xrad_scene_destroy(&model);
+
+    /* ball-room: a geodesic ball of frequency 2 (20 x 2^2 = 80 triangles,
+     * radius 80 mm, every vertex on the sphere) moving through the room.
+     * Its cross_density 10 per metre is below one sample per edge, so
+     * every triangle gets the 2 x 2 minimum: 4 x 80 cross elements. */
+    sc = load("scenes/ball-room.json");
+    if (sc) {
+        xrad_scene_info in;
+        xrad_scene_get_info(sc, &in);
+        uint32_t b = object_index(sc, "ball");
+        const object *ob = &sc->objects[b];
+        CHECK(ob->dynamic && in.dynamic_objects == 1, "ball-room: the ball moves");
+        CHECK(ob->surface_count == 80 && in.triangles == 80,
+              "ball-room: %u ball surfaces, %u triangles, want 20 x 2^2 = 80", ob->surface_count,
+              in.triangles);
+        CHECK(in.surfaces == 9 + 80, "ball-room: %u surfaces", in.surfaces);
+        CHECK(ob->cross_element_count == 4 * 80, "ball-room: %u cross elements, want 320",
+              ob->cross_element_count);
+        double worst = 0;
+        for (uint32_t k = 0; k < ob->surface_count; k++)
+            for (int i = 0; i < 3; i++)
+                worst = fmax(worst, fabs(v3_len(sc->surfaces[ob->first_surface + k].p[i]) - 0.08));
+        CHECK(worst < 1e-6, "ball-room: a vertex %g m off the 80 mm sphere", worst);
+        /* Inside the room, clear of the floor, along its whole path. */
+        for (double t = 0; t <= 8; t += 0.25) {
+            vec3 lo, hi;
+            object_extent(sc, b, t, &lo, &hi);
+            CHECK(lo.x > 0 && hi.x < 0.556 && lo.y > 0 && hi.y < 0.5488 && lo.z > 0 &&
+                      hi.z < 0.5592,
+                  "ball-room: at t = %g the ball leaves the room", t);
+        }
+        check_positive("ball-room", sc);
+        check_shell_faces_in("ball-room", sc, v3(0.278, 0.2744, 0.2796));
+        fprintf(stderr, "ball-room: static %u dynamic %u cross %u surfaces %u atlas %u x %u\n",
+                in.static_elements, in.dynamic_elements, ob->cross_element_count, in.surfaces,
+                in.atlas_width, in.atlas_height);
+    }
+    xrad_scene_destroy(&sc);
+
+    /* heavy-sphere: the mesh of tools/gen_displaced_sphere at frequency 71
+     * (20 x 71^2 = 100820 triangles, none coplanar) is more surfaces than
+     * a scene may hold (100000): the loader refuses it as bad input
+     * naming the count, quickly and without allocating per element. */
+    char path[512];
+    err = (xrad_error){0};
+    xrad_status st = xrad_scene_load(test_source_path("scenes/heavy-sphere.json", path,
+                                                      sizeof(path)), &sc, &err);
+    CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "100820 triangles, more than 100000"),
+          "heavy-sphere: status %d: %s", (int)st, err.message);
+    fprintf(stderr, "heavy-sphere: %s\n", err.message);
+    xrad_scene_destroy(&sc);
+}
+
+/* The ball of ball-room placed at "mesh.scale" in a scene parsed from
+ * memory as if it were scenes/probe.json (so that models/ resolves). */
+static xrad_status parse_ball(const char *scale, const char *quality, xrad_scene **sc,
+                              xrad_error *err)
+{
+    char json[1024], name[512];
+    snprintf(json, sizeof(json),
+             "{\"density\": 40, %s \"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, "
+             "0.5]}], \"objects\": [{\"name\": \"o\", \"surfaces\": [{\"name\": \"ball\", "
+             "\"mesh\": {\"file\": \"models/ball-80.ply\", \"scale\": %s}}]}]}",
+             quality, scale);
+    *sc = NULL;
+    return xrad_scene_parse(json, strlen(json), test_source_path("scenes/probe.json", name,
+                                                                 sizeof(name)), sc, err);
+}
+
+/* "mesh.scale": the model's metres times it, sample counts made for the
+ * scaled size (at any density scale), and bad values refused by name. */
+static void mesh_scale(void)
+{
+    static const char *const quality[] = {"", "\"quality\": {\"density_scale\": 2.5},"};
+    for (int q = 0; q < 2; q++) {
+        xrad_scene *sc;
+        xrad_error err = {0};
+        CHECK(parse_ball("3", quality[q], &sc, &err) == XRAD_OK, "scale 3: %s", err.message);
+        if (!sc)
+            continue;
+        double d = 40 * (q ? 2.5 : 1), worst = 0;
+        uint32_t wrong = 0;
+        for (uint32_t k = 0; k < sc->surface_count; k++) {
+            const surface *sf = &sc->surfaces[k];
+            for (int i = 0; i < 3; i++)
+                worst = fmax(worst, fabs(v3_len(sf->p[i]) - 3 * 0.08));
+            /* A triangle's u edge is its longest (p0 p1), v runs to the apex. */
+            double lu = v3_len(v3_sub(sf->p[1], sf->p[0]));
+            double lv = fmax(v3_len(v3_sub(sf->p[3], sf->p[0])), v3_len(v3_sub(sf->p[2], sf->p[1])));
+            double nu = fmax(2, ceil(lu * d * (1 - 1e-9)) + 1);
+            double nv = fmax(2, ceil(lv * d * (1 - 1e-9)) + 1);
+            wrong += sf->nu != nu || sf->nv != nv;
+        }
+        CHECK(worst < 1e-6, "scale 3: a vertex %g m off the 240 mm sphere", worst);
+        CHECK(wrong == 0, "scale 3, density %g: %u surfaces with counts not of their scaled size",
+              d, wrong);
+        xrad_scene_destroy(&sc);
+    }
+    static const char *const bad[] = {"0", "-1", "1e-7", "1e7", "\"2\"", "null"};
+    for (size_t k = 0; k < sizeof(bad) / sizeof(bad[0]); k++) {
+        xrad_scene *sc;
+        xrad_error err = {0};
+        xrad_status st = parse_ball(bad[k], "", &sc, &err);
+        CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "field 'mesh.scale'") &&
+                  strstr(err.message, "surface 'ball'"),
+              "scale %s: status %d: %s", bad[k], (int)st, err.message);
+        xrad_scene_destroy(&sc);
+    }
+    /* 40 per metre at scale 1000 is 40000 per metre of the file. */
+    xrad_scene *sc;
+    xrad_error err = {0};
+    xrad_status st = parse_ball("1000", "", &sc, &err);
+    CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "field 'mesh.scale'") &&
+              strstr(err.message, "more than 10000"),
+          "scale 1000: status %d: %s", (int)st, err.message);
+    fprintf(stderr, "mesh.scale 1000: %s\n", err.message);
+    xrad_scene_destroy(&sc);
+}
+
 int main(void)
 {
+    mesh_scenes();
+    mesh_scale();
+
     for (size_t k = 0; k < sizeof(thesis) / sizeof(thesis[0]); k++) {
         const expected *x = &thesis[k];
         xrad_scene *sc = load(x->file);
