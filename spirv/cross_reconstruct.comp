@@ -207,6 +207,10 @@ float form_factor(gpu_shooter f, cross_quad q, vec3 x, vec3 ne, vec3 d, vec2 cos
 // that the progressive iterations, which do not see M, bring it.
 bool covered(uint p, vec3 x, vec3 ne, float tol)
 {
+    // A group's quad stands for faces that need not lie in its plane (a
+    // ball's underside touches the floor at a point, not over the quad).
+    if (frame(CROSS_FRAMES_FRONT, p).group != 0u)
+        return false;
     vec3 n = frame(CROSS_FRAMES_FRONT, p).normal.xyz;
     cross_quad q = quads[p];
     if (dot(ne, n) >= 0.0 || abs(dot(x - q.corner[0].xyz, n)) > tol)
@@ -267,7 +271,7 @@ vec3 lit_direct(vec3 x, vec3 ne, uint id)
         }
         if (facing(f, x, ne, d, cosines, local) &&
             shooting_visible(light_ids, pc.hemicube_res, pc.neighbours != 0u, local, l, id,
-                             f.pos_area.xyz, x, false))
+                             f.pos_area.xyz, x, true))
             sum += form_factor(f, lq, x, ne, d, cosines) * emission;
     }
     return sum;

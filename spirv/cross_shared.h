@@ -19,21 +19,30 @@
  *   quads[p]         cross_quad    world corners of each patch at the pose
  *   inserted[e]      vec4          what the last redistribution added to B of
  *                                  static element e: R_p(M, C) + R_x(C, C)
- *   gathered[p]      vec4          R_g(C, M) sums (integrate pass output)
- *   surface_patch[s] uint          the patch (ci, cj) = (0, 0) of dynamic surface s
+ *   gathered[p]      vec4          R_g(C, M) sums (integrate pass output); then
+ *                                  [P + p], [2P + p] the x and y parts of the
+ *                                  irradiance vector (integrate_shared.h)
+ *   surface_patch[s] uint          the patch (ci, cj) = (0, 0) of dynamic surface s (a
+ *                                  mesh face: its group); after surface_count of them,
+ *                                  the groups' member surfaces
  */
 #ifndef XRAD_SPIRV_CROSS_SHARED_H
 #define XRAD_SPIRV_CROSS_SHARED_H
 
 #include "shared.h"
 
+/* A block patch covers elements of one surface; a group patch (a dynamic
+ * mesh's faces, member_count > 0) covers every element of the surfaces
+ * surface_patch[member_first .. member_first + member_count - 1] (the tail
+ * of that buffer), and its one gather hemicube gives them all their B. */
 struct cross_patch {
-    uint surface;    /* a dynamic surface */
-    uint i0, i1, j0; /* its elements [i0, i1] x [j0, j1] */
+    uint surface;    /* a dynamic surface (a group: its first member) */
+    uint i0, i1, j0; /* its elements [i0, i1] x [j0, j1] (blocks) */
     uint j1;
     uint ci, cj;     /* its coarse sample (gather hemicube) */
-    uint cx, cy;     /* coarse samples of that surface along s and t, each >= 2 */
-    uint pad0, pad1, pad2;
+    uint cx, cy;     /* coarse samples of that surface along s and t, each >= 2 (blocks) */
+    uint member_first, member_count; /* groups; 0 0 for blocks */
+    uint pad0;
 };
 
 struct cross_value {
@@ -67,11 +76,14 @@ struct cross_quad {
 #define CROSS_UPDATE_BINDING_VALUES 6
 #define CROSS_UPDATE_BINDING_GATHERED 7
 #define CROSS_UPDATE_BINDING_OUT 8
-#define CROSS_UPDATE_BINDING_SURFACE_PATCH 9 /* uint[surface]: its patch (0, 0); static: none */
+#define CROSS_UPDATE_BINDING_SURFACE_PATCH 9 /* uint[surface]: its patch (0, 0); static: none;
+                                                then the groups' members */
 /* uint: INDIRECT_C's largest |component| written, as float bits (atomicMax:
  * the bits of non-negative floats order as the floats). */
 #define CROSS_UPDATE_BINDING_PEAK 10
-#define CROSS_UPDATE_BINDING_COUNT 11
+/* gpu_shooter[3][patch_count]: the frames (GATHERED: a group's gather frame) */
+#define CROSS_UPDATE_BINDING_FRAMES 11
+#define CROSS_UPDATE_BINDING_COUNT 12
 
 #define CROSS_UPDATE_GROUP 64u
 
@@ -79,7 +91,7 @@ struct cross_update_push {
     uint mode;
     uint count;        /* invocations: patches or elements */
     uint element_count;
-    uint pad0;
+    uint patch_count;
 };
 
 #define CROSS_RECONSTRUCT_BINDING_SURFACES 0

@@ -13,7 +13,7 @@
 //            (peak), for the hemicubes' fp16 scale;
 //  GATHERED  per element of M: B = E + rho * (the gathered sums of its
 //            surface's coarse samples, interpolated bilinearly at the
-//            element's sample), Bu = 0 (lines 12-14: the total is shot
+//            element's sample; a group's faces: the group's sum), Bu = 0 (lines 12-14: the total is shot
 //            next, so nothing is left unshot);
 //  TOTAL     per patch of M: the area mean of B, what the patch shoots
 //            (line 13: T updated with B_s).
@@ -38,6 +38,7 @@ layout(std430, binding = CROSS_UPDATE_BINDING_GATHERED) readonly buffer Gathered
 layout(std430, binding = CROSS_UPDATE_BINDING_OUT) writeonly buffer Out { vec4 outv[]; };
 layout(std430, binding = CROSS_UPDATE_BINDING_SURFACE_PATCH) readonly buffer SurfacePatch { uint surface_patch[]; };
 layout(std430, binding = CROSS_UPDATE_BINDING_PEAK) buffer Peak { uint peak; };
+layout(std430, binding = CROSS_UPDATE_BINDING_FRAMES) readonly buffer Frames { gpu_shooter frames[]; };
 
 // Parameter of coarse sample c of n along a side: the centroid of its cell
 // (the part of the side within half a spacing, clipped), where the gather
@@ -59,12 +60,24 @@ float bracket(float s, uint n, out uint c0)
     return clamp((s - a) / (b - a), 0.0, 1.0);
 }
 
-// Area mean of B over the patch's elements.
+// Area mean of B over the patch's elements: a block's, or every element
+// of a group's member surfaces.
 vec3 patch_mean(cross_patch p)
 {
-    gpu_surface sf = surfaces[p.surface];
     vec3 sum = vec3(0.0);
     float area = 0.0;
+    if (p.member_count != 0u) {
+        for (uint m = 0u; m < p.member_count; m++) {
+            gpu_surface ms = surfaces[surface_patch[p.member_first + m]];
+            for (uint e = ms.first_element; e < ms.first_element + ms.nu * ms.nv; e++) {
+                float a = elements[e].pos_area.w;
+                sum += B[e].rgb * a;
+                area += a;
+            }
+        }
+        return area > 0.0 ? sum / area : vec3(0.0);
+    }
+    gpu_surface sf = surfaces[p.surface];
     for (uint j = p.j0; j <= p.j1; j++) {
         for (uint i = p.i0; i <= p.i1; i++) {
             uint e = sf.first_element + j * sf.nu + i;
@@ -112,6 +125,21 @@ void main()
     // whose values were gathered at their cells' centroids (knot()):
     // linear between those points, constant beyond the outer ones.
     uint first = surface_patch[elements[k].surface];
+    // A group's faces take its gather hemicube's irradiance vector dotted
+    // with their own normal in its frame: the gathered sum for that
+    // normal, to first order. Its faces' normals spread over a cone of up
+    // to about 55 degrees (solvers/dynamic_patches.c); with one value for
+    // all, a 80-face ball's side faces were 0.89 of the CPU reference's.
+    if (patches[first].member_count != 0u) {
+        gpu_shooter f = frames[CROSS_FRAMES_GATHER * pc.patch_count + first];
+        vec3 n = sf.normal_area.xyz, z = f.normal.xyz, x = f.tangent.xyz;
+        vec3 g = dot(n, x) * gathered[pc.patch_count + first].rgb +
+                 dot(n, cross(z, x)) * gathered[2u * pc.patch_count + first].rgb +
+                 dot(n, z) * gathered[first].rgb;
+        B[k] = vec4(m.emission.rgb + m.albedo.rgb * max(g, vec3(0.0)), 0.0);
+        Bu[k] = vec4(0.0);
+        return;
+    }
     uint cx = patches[first].cx, cy = patches[first].cy;
     uint ke = k - sf.first_element;
     uint c0x, c0y;

@@ -5,7 +5,11 @@
 // hemicube's point. One workgroup per hemicube: every invocation sums a
 // strided share of the weighted pixels (the top face and the upper halves
 // of the side faces; the lower halves weigh 0), then a shared-memory tree
-// adds the shares.
+// adds the shares. With pc.moments, the x and y parts of the irradiance
+// vector too (integrate_shared.h): the delta form factor is cos(theta)
+// dA / pi, so weighting it by d.x / d.z gives the sum of B sin-cos parts
+// that, dotted with a normal n near the hemicube's, gives the gathered
+// sum for n (cross's mesh groups, spirv/cross_update.comp).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 #include "integrate_shared.h"
@@ -18,13 +22,29 @@ layout(std430, binding = INTEGRATE_BINDING_TABLE) readonly buffer Table { float 
 layout(std430, binding = INTEGRATE_BINDING_OUT) writeonly buffer Out { vec4 sums[]; };
 
 shared vec3 partial[INTEGRATE_GROUP];
+shared vec3 partial_x[INTEGRATE_GROUP];
+shared vec3 partial_y[INTEGRATE_GROUP];
+
+// The texel's direction d in the hemicube's frame, as (d.x / d.z, d.y /
+// d.z): the faces as spirv/reconstruct.comp's front_fraction maps them;
+// side faces' texels lie above the horizon (v > 0).
+vec2 slope(uint face, uint px, uint res)
+{
+    float u = (float(px % res) + 0.5) / float(res) * 2.0 - 1.0;
+    float v = (float(px / res) + 0.5) / float(res) * 2.0 - 1.0;
+    return face == 0u ? vec2(u, v)
+         : face == 1u ? vec2(1.0, u) / v
+         : face == 2u ? vec2(-1.0, -u) / v
+         : face == 3u ? vec2(-u, 1.0) / v
+                      : vec2(u, -1.0) / v;
+}
 
 void main()
 {
     uint h = gl_WorkGroupID.x;
     uint res = pc.res, face_px = res * res, half_px = face_px / 2u;
     uint weighted = face_px + 4u * half_px;
-    vec3 sum = vec3(0.0);
+    vec3 sum = vec3(0.0), sum_x = vec3(0.0), sum_y = vec3(0.0);
     for (uint i = gl_LocalInvocationID.x; i < weighted; i += INTEGRATE_GROUP) {
         uint face, px; // px: row * res + col within the face
         if (i < face_px) {
@@ -36,15 +56,32 @@ void main()
             px = half_px + j % half_px; // rows res/2 .. res-1: above the horizon
         }
         ivec3 at = ivec3(int(px % res), int(px / res), int(h * 5u + face));
-        sum += texelFetch(hemicubes, at, 0).rgb * table[face * face_px + px];
+        vec3 w = texelFetch(hemicubes, at, 0).rgb * table[face * face_px + px];
+        sum += w;
+        if (pc.moments != 0u) {
+            vec2 k = slope(face, px, res);
+            sum_x += w * k.x;
+            sum_y += w * k.y;
+        }
     }
-    partial[gl_LocalInvocationID.x] = sum;
+    uint l = gl_LocalInvocationID.x;
+    partial[l] = sum;
+    partial_x[l] = sum_x;
+    partial_y[l] = sum_y;
     barrier();
     for (uint stride = INTEGRATE_GROUP / 2u; stride > 0u; stride /= 2u) {
-        if (gl_LocalInvocationID.x < stride)
-            partial[gl_LocalInvocationID.x] += partial[gl_LocalInvocationID.x + stride];
+        if (l < stride) {
+            partial[l] += partial[l + stride];
+            partial_x[l] += partial_x[l + stride];
+            partial_y[l] += partial_y[l + stride];
+        }
         barrier();
     }
-    if (gl_LocalInvocationID.x == 0u)
+    if (l == 0u) {
         sums[pc.out_first + h] = vec4(partial[0] * pc.inv_scale, 0.0);
+        if (pc.moments != 0u) {
+            sums[pc.moments_first + h] = vec4(partial_x[0] * pc.inv_scale, 0.0);
+            sums[pc.moments_first + pc.count + h] = vec4(partial_y[0] * pc.inv_scale, 0.0);
+        }
+    }
 }

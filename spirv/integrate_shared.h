@@ -18,6 +18,13 @@ struct integrate_push {
     uint out_first; /* sum of hemicube h goes to out[out_first + h] */
     uint count;     /* hemicubes */
     float inv_scale; /* the hemicubes hold B x scale: sums are multiplied by 1 / scale */
+    /* Non-zero: also the sums weighted by the texel direction's d.x / d.z
+     * and d.y / d.z in the hemicube's frame (the x and y parts of the
+     * irradiance vector, whose z part is the sum) to out[moments_first + h]
+     * and out[moments_first + count + h]. */
+    uint moments;
+    uint moments_first;
+    uint pad0, pad1;
 };
 
 #endif

@@ -62,7 +62,10 @@ struct gpu_shooter {
     vec4 tangent;    /* world unit tangent, randomly rotated about the normal (thesis 4.2) */
     vec4 radiosity;  /* rgb radiosity shot (area-weighted mean over the patch) */
     uint surface, i0, i1, j0;
-    uint j1, hemicube, pad0, pad1; /* hemicube: layer block of its ID hemicube */
+    uint j1, hemicube; /* hemicube: layer block of its ID hemicube */
+    uint group;        /* 1: a group of a dynamic mesh's faces (cross; solvers/
+                          dynamic_patches.h), not a block of surface's elements */
+    uint pad1;
 };
 
 #endif

@@ -253,7 +253,7 @@ void main()
         sh.j0 = j0;
         sh.j1 = j1;
         sh.hemicube = k;
-        sh.pad0 = 0u;
+        sh.group = 0u;
         sh.pad1 = 0u;
         shooters[k] = sh;
     }

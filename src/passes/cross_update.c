@@ -62,6 +62,7 @@ void cross_update_bind(struct xrad_context *ctx, cross_update_pass *p,
         [CROSS_UPDATE_BINDING_OUT] = {b->out, 0},
         [CROSS_UPDATE_BINDING_SURFACE_PATCH] = {b->surface_patch, 0},
         [CROSS_UPDATE_BINDING_PEAK] = {b->peak, 0},
+        [CROSS_UPDATE_BINDING_FRAMES] = {b->frames, 0},
     };
     gpu_kernel_bind(ctx, &p->kernel, 0, r);
 }
@@ -74,6 +75,7 @@ void cross_update_record(cross_update_pass *p, VkCommandBuffer cmd, uint32_t mod
         .mode = mode,
         .count = per_patch ? patch_count : element_count,
         .element_count = element_count,
+        .patch_count = patch_count,
     };
     gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, push.count, CROSS_UPDATE_GROUP);
 }

@@ -25,10 +25,11 @@ typedef struct cross_update_bindings {
     const gpu_buffer *B, *Bu;                          /* vec4[element_count] */
     const gpu_buffer *patches;                         /* struct cross_patch[patch_count] */
     const gpu_buffer *values;                          /* struct cross_value[patch_count] */
-    const gpu_buffer *gathered;                        /* vec4[patch_count] */
+    const gpu_buffer *gathered;                        /* vec4[3 patch_count] (cross.c) */
     const gpu_buffer *out;                             /* vec4[element_count] (INDIRECT_C) */
-    const gpu_buffer *surface_patch;                   /* uint[surface_count] */
+    const gpu_buffer *surface_patch;                   /* uint[surface_count], members */
     const gpu_buffer *peak;                            /* uint (INDIRECT_C) */
+    const gpu_buffer *frames;                          /* gpu_shooter[3][patch_count] */
 } cross_update_bindings;
 
 xrad_status cross_update_create(struct xrad_context *ctx, cross_update_pass **out,

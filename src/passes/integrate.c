@@ -137,6 +137,8 @@ void integrate_record(integrate_pass *p, VkCommandBuffer cmd, const integrate_dr
         .out_first = d->out_first,
         .count = d->count,
         .inv_scale = d->scale > 0 ? 1.0f / d->scale : 1.0f,
+        .moments = d->moments,
+        .moments_first = d->moments_first,
     };
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,

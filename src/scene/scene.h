@@ -100,6 +100,8 @@ typedef struct surface {
      * that a planarised quad still meets its neighbours (display.c). */
     double planarise_dist[4];
     bool triangle; /* p[3] == p[2], the apex (see the top of this file) */
+    bool mesh;     /* from a triangle mesh (xrad_scene_builder_add_mesh): a triangle or a
+                      joined pair; cross groups a dynamic mesh's faces into patches */
 } surface;
 
 /* Elements are stored surface by surface, object by object, row-major

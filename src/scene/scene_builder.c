@@ -770,6 +770,8 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
                 qd.p[k][2] = q[k].z;
             }
             st = scene_builder_quad(b, &qd, sw, "indices", density, err);
+            if (!st)
+                b->sc->surfaces[b->sc->surface_count - 1].mesh = true;
             continue;
         }
         surface *s;
@@ -786,6 +788,7 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
         snprintf(s->name, sizeof(s->name), "%s", sname);
         s->object = b->sc->object_count - 1;
         s->material = mat;
+        s->mesh = true;
         st = finish_surface(b, err, sw, "density", density, NULL);
     }
 done:

@@ -103,8 +103,9 @@ typedef struct cross {
     cross_reconstruct_pass *reconstruct;
     gpu_buffer patches;       /* struct cross_patch[P] */
     gpu_buffer values;        /* struct cross_value[P] */
-    gpu_buffer gathered;      /* vec4[P] */
-    gpu_buffer surface_patch; /* uint[surface_count] */
+    gpu_buffer gathered;      /* vec4[3 P]: per patch the gathered sum, then its irradiance
+                                 vector's x and y parts (integrate_shared.h; mesh groups) */
+    gpu_buffer surface_patch; /* uint[dp.surface_patch_size] */
     gpu_buffer shot;          /* vec4[element_count]: B - Bu of C, 0 on M */
     gpu_buffer inserted;      /* vec4[element_count]: what step 5 last added to C */
     gpu_buffer frames;        /* gpu_shooter[3 tables][P], host-written */
@@ -215,17 +216,16 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                             .redistribution = true};
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    size_t ns = gs->surface_count ? gs->surface_count : 1;
     size_t element_bytes = (size_t)gs->element_count * sizeof(vec4);
     xrad_status st;
     if ((st = gpu_buffer_create(ctx, P * sizeof(struct cross_patch), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->patches, err)) ||
         (st = gpu_buffer_create(ctx, P * sizeof(struct cross_value), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->values, err)) ||
-        (st = gpu_buffer_create(ctx, P * sizeof(vec4), storage, GPU_MEM_DEVICE,
+        (st = gpu_buffer_create(ctx, 3 * P * sizeof(vec4), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->gathered, err)) ||
-        (st = gpu_buffer_create(ctx, ns * sizeof(uint32_t), storage, GPU_MEM_DEVICE,
-                                GPU_MEM_REDISTRIBUTION, &c->surface_patch, err)) ||
+        (st = gpu_buffer_create(ctx, c->dp.surface_patch_size * sizeof(uint32_t), storage,
+                                GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &c->surface_patch, err)) ||
         (st = gpu_buffer_create(ctx, element_bytes, storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->shot, err)) ||
         (st = gpu_buffer_create(ctx, element_bytes, storage, GPU_MEM_DEVICE,
@@ -241,7 +241,7 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
         (st = gpu_upload_buffer(ctx, &c->patches, 0, c->dp.patches,
                                 P * sizeof(struct cross_patch), err)) ||
         (st = gpu_upload_buffer(ctx, &c->surface_patch, 0, c->dp.surface_patch,
-                                gs->surface_count * sizeof(uint32_t), err)) ||
+                                c->dp.surface_patch_size * sizeof(uint32_t), err)) ||
         (st = hemicube_create_desc(ctx, &ids, &c->ids, err)) ||
         (st = hemicube_create_desc(ctx, &back, &c->back, err)) ||
         (st = hemicube_create_desc(ctx, &gather, &c->gather, err)) ||
@@ -256,7 +256,7 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                       &(cross_update_bindings){&gs->surfaces, &gs->elements, &gs->materials,
                                                &gs->B, &gs->Bu, &c->patches, &c->values,
                                                &c->gathered, &c->shot, &c->surface_patch,
-                                               &c->peak});
+                                               &c->peak, &c->frames});
     cross_reconstruct_bind(ctx, c->reconstruct,
                            &(cross_reconstruct_bindings){
                                &gs->surfaces, &gs->elements, &gs->materials, &gs->B, &gs->Bu,
@@ -278,7 +278,7 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
     xrad_status st;
     /* Without dynamic objects there is nothing to redistribute: plain
      * progressive refinement, with all it sees. */
-    if ((st = dynamic_patches_build(s->scene, s->desc.max_patches, &c->dp, err)) ||
+    if ((st = dynamic_patches_build(s->scene, s->desc.max_patches, true, &c->dp, err)) ||
         (st = progressive_create(s, c->dp.count ? PROGRESSIVE_STATIC_ONLY : 0u, &c->prog, err)))
         goto fail;
     c->P = c->dp.count;
@@ -391,7 +391,8 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
                                      .atlas = &gs->atlas, .scale = (float)c->scale});
     integrate_record(c->integrate, cmd,
                      &(integrate_draw){.hemicubes = hemicube_image(c->gather)->view, .count = P,
-                                       .out = &c->gathered, .scale = (float)c->scale});
+                                       .out = &c->gathered, .scale = (float)c->scale,
+                                       .moments = true, .moments_first = P});
     compute_barrier(cmd);
     cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n);
     gpu_timer_end(s->timer, cmd);

@@ -24,14 +24,25 @@
 
 typedef struct dynamic_patches {
     uint32_t count;
-    struct cross_patch *patches; /* [count], surface by surface, row-major in (ci, cj) */
-    uint32_t *surface_patch;     /* [surface_count]: patch (0, 0) of a dynamic surface, else NONE */
+    /* [count]: blocks surface by surface, row-major in (ci, cj); then the
+     * groups (cross_shared.h) */
+    struct cross_patch *patches;
+    /* [surface_patch_size]: per surface, patch (0, 0) of a dynamic surface
+     * (a grouped face: its group), else NONE; then the groups' members */
+    uint32_t *surface_patch;
+    uint32_t surface_patch_size;
 } dynamic_patches;
 
 /* The layout for `scene`; max_patches (>= 1) bounds the sides of surfaces
- * whose object has no cross_density. A scene without dynamic surfaces has
- * count 0 (and allocates nothing). */
-xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches,
+ * whose object has no cross_density. With `groups` (cross), the faces of
+ * dynamic meshes (surface.mesh) are grouped instead, about 1 /
+ * cross_density a side, faces of one cone of normals together (without
+ * cross_density, the object's diagonal / max_patches): a group's one
+ * patch shoots the area mean of its faces from a hemicube above them all
+ * (dynamic_patches_pose). Incremental keeps blocks: its select pass cuts
+ * surfaces, not groups. A scene without dynamic surfaces has count 0 (and
+ * allocates nothing). */
+xrad_status dynamic_patches_build(const xrad_scene *scene, uint32_t max_patches, bool groups,
                                   dynamic_patches *out, xrad_error *err);
 /* The same kind of layout for the static emitters (the lights of C;
  * cross.c's direct light): each surface with emission cut into blocks by

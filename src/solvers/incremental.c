@@ -259,7 +259,7 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "incremental solver: out of host memory");
     /* M's layout is fixed before progressive_create, so that the shooter
      * capacity accounts for it (as cross.c). */
-    xrad_status st = dynamic_patches_build(s->scene, s->desc.max_patches, &inc->dp, err);
+    xrad_status st = dynamic_patches_build(s->scene, s->desc.max_patches, false, &inc->dp, err);
     if (!st && inc->dp.count)
         st = dynamic_patches_fix(s->ctx, &s->gs, &inc->dp, err);
     if (!st)

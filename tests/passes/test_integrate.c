@@ -16,6 +16,11 @@
  *    An unrotated hemicube puts the square's edges on pixel boundaries, so
  *    the exact delta form factors give F to rounding (1e-3); rotated, the
  *    edges cut pixels (1e-2 with 4 samples).
+ *  - the irradiance vector's x and y parts (integrate_shared.h, moments)
+ *    from a point off the centre of that square: Lambert's vector
+ *    (1 / 2 pi) sum_k gamma_k unit(R_k x R_k+1) over the square's edges, in
+ *    the hemicube's frame, within 1e-2 of its length with 4 samples; so
+ *    that n . (x, y, sum) gives the gathered sum of a tilted normal n.
  */
 #include <stdio.h>
 #include <string.h>
@@ -78,9 +83,11 @@ static struct gpu_shooter to_shooter(const frame *f)
     return sh;
 }
 
-/* B -> atlas, n radiosity hemicubes, integrate; sums[h] rgb. */
-static xrad_status gather_sums(xrad_context *ctx, const xrad_scene *sc, const frame *frames,
-                               uint32_t n, uint32_t msaa, float scale, double sums[][3])
+/* B -> atlas, n radiosity hemicubes, integrate; sums[h] rgb, and with
+ * `moments` moments[h][0..1] the irradiance vector's x and y parts. */
+static xrad_status gather_moments(xrad_context *ctx, const xrad_scene *sc, const frame *frames,
+                                  uint32_t n, uint32_t msaa, float scale, double sums[][3],
+                                  double (*moments)[2][3])
 {
     xrad_error err = {0};
     gpu_scene gs = {0};
@@ -107,7 +114,7 @@ static xrad_status gather_sums(xrad_context *ctx, const xrad_scene *sc, const fr
         (s = integrate_create(ctx, RES, &ip, &err)) || (s = atlas_scatter_create(ctx, &sp, &err)) ||
         (s = gpu_buffer_create(ctx, sizeof(sh), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
                                GPU_MEM_GEOMETRY, &fbuf, &err)) ||
-        (s = gpu_buffer_create(ctx, MAX_CUBES * sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+        (s = gpu_buffer_create(ctx, 3 * MAX_CUBES * sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                GPU_MEM_READBACK, GPU_MEM_OTHER, &out, &err)) ||
         (s = gpu_upload_buffer(ctx, &fbuf, 0, sh, n * sizeof(sh[0]), &err)) ||
         (s = gpu_cmd_begin(ctx, &c, &err)))
@@ -128,7 +135,9 @@ static xrad_status gather_sums(xrad_context *ctx, const xrad_scene *sc, const fr
                      &(integrate_draw){.hemicubes = hemicube_image(hc)->view,
                                        .count = n,
                                        .out = &out,
-                                       .scale = scale});
+                                       .scale = scale,
+                                       .moments = moments != NULL,
+                                       .moments_first = n});
     VkMemoryBarrier host = {VK_STRUCTURE_TYPE_MEMORY_BARRIER, NULL, VK_ACCESS_SHADER_WRITE_BIT,
                             VK_ACCESS_HOST_READ_BIT};
     vkCmdPipelineBarrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT,
@@ -140,6 +149,11 @@ static xrad_status gather_sums(xrad_context *ctx, const xrad_scene *sc, const fr
         sums[h][0] = v[h].x;
         sums[h][1] = v[h].y;
         sums[h][2] = v[h].z;
+        for (int a = 0; moments && a < 2; a++) {
+            moments[h][a][0] = v[(1 + a) * n + h].x;
+            moments[h][a][1] = v[(1 + a) * n + h].y;
+            moments[h][a][2] = v[(1 + a) * n + h].z;
+        }
     }
 done:
     CHECK(s == XRAD_OK, "%s", err.message);
@@ -151,6 +165,12 @@ done:
     hemicube_destroy(ctx, &hc);
     gpu_scene_destroy(ctx, &gs);
     return s;
+}
+
+static xrad_status gather_sums(xrad_context *ctx, const xrad_scene *sc, const frame *frames,
+                               uint32_t n, uint32_t msaa, float scale, double sums[][3])
+{
+    return gather_moments(ctx, sc, frames, n, msaa, scale, sums, NULL);
 }
 
 static void test_table(xrad_context *ctx)
@@ -240,6 +260,52 @@ static void test_ceiling(xrad_context *ctx)
     xrad_scene_destroy(&sc);
 }
 
+/* Lambert's irradiance vector of the unit square at z = 1 (x, y in [0,
+ * 1]) from point p: (1 / 2 pi) sum_k gamma_k unit(R_k x R_k+1), oriented
+ * so that its z part (the form factor to a point facing up) is positive. */
+static vec3 square_vector(vec3 p)
+{
+    const vec3 q[4] = {{0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+    vec3 sum = v3(0, 0, 0);
+    for (int k = 0; k < 4; k++) {
+        vec3 a = v3_sub(q[k], p), b = v3_sub(q[(k + 1) % 4], p);
+        vec3 c = v3_cross(a, b);
+        double gamma = atan2(v3_len(c), v3_dot(a, b));
+        sum = v3_mad(sum, v3_norm(c), gamma / (2 * M_PI));
+    }
+    return sum.z < 0 ? v3_scale(sum, -1) : sum;
+}
+
+static void test_moments(xrad_context *ctx)
+{
+    const double zero[3] = {0, 0, 0}, e[3] = {3, 2, 1};
+    xrad_scene *sc = load_box(zero, e);
+    if (!sc)
+        return;
+    /* Unrotated, facing up: the hemicube's x and y are the world's. */
+    const frame frames[2] = {{{0.2, 0.3, 0}, {0, 0, 1}, 0}, {{0.85, 0.6, 0}, {0, 0, 1}, 0}};
+    double sums[2][3], moments[2][2][3];
+    if (!gather_moments(ctx, sc, frames, 2, 4, 1.0f / 3, sums, moments)) {
+        for (int h = 0; h < 2; h++) {
+            vec3 v = square_vector(frames[h].origin);
+            double want[3] = {v.x, v.y, v.z};
+            double worst = 0;
+            for (int c = 0; c < 3; c++) {
+                double got[3] = {moments[h][0][c], moments[h][1][c], sums[h][c]};
+                for (int a = 0; a < 3; a++)
+                    worst = fmax(worst, fabs(got[a] / e[c] - want[a]) / v3_len(v));
+            }
+            fprintf(stderr,
+                    "irradiance vector at (%.2f, %.2f): (%.5f %.5f %.5f) x E, Lambert (%.5f %.5f "
+                    "%.5f): worst error %.2e of its length\n",
+                    frames[h].origin.x, frames[h].origin.y, moments[h][0][0] / e[0],
+                    moments[h][1][0] / e[0], sums[h][0] / e[0], v.x, v.y, v.z, worst);
+            CHECK(worst < 1e-2, "irradiance vector, hemicube %d: worst error %.3g", h, worst);
+        }
+    }
+    xrad_scene_destroy(&sc);
+}
+
 int main(void)
 {
     xrad_context *ctx = gpu_test_context();
@@ -252,6 +318,7 @@ int main(void)
     test_uniform_box(ctx, 6.123292, 1, 2.5e-4);
     test_uniform_box(ctx, 6.123292, 4, 2.5e-4);
     test_ceiling(ctx);
+    test_moments(ctx);
     gpu_test_end(&ctx);
     return test_finish();
 }
