@@ -4,13 +4,18 @@
  * through the node's transform (metres, glTF's unit); materials give
  * albedo and emission; the first camera (or the one named) the scene's.
  * What a file has that xrad does not model is listed as warnings, one
- * line per kind, never dropped silently (scenes/README.md "Model files"). */
+ * line per kind, never dropped silently (scenes/README.md "Model files").
+ * Bad input is refused naming the file and the node and mesh at fault;
+ * what assimp would abort, hang or over-allocate on is refused before it
+ * gets there (faces_sound, ply_check; tests/fuzz/README.md). */
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -25,6 +30,23 @@
 /* Albedo must stay below 1 (scene.h); a glTF base colour of 1 becomes this. */
 #define ALBEDO_MAX 0.999
 
+/* The node tree is walked recursively: deeper than this is refused rather
+ * than risking the stack (no model nests anywhere near it). */
+#define NODE_DEPTH_MAX 256u
+
+/* A PLY header longer than this is refused: the counts in it must be
+ * checked before assimp reserves memory for them (ply_check). */
+#define PLY_HEADER_MAX (64u << 10)
+
+/* assimp's own warnings passed on, distinct lines, at most this many. */
+#define ASSIMP_LINES 8
+#define ASSIMP_LINE_MAX 200
+
+typedef struct import_log {
+    char line[ASSIMP_LINES][ASSIMP_LINE_MAX];
+    uint32_t lines, more;
+} import_log;
+
 typedef struct import_ctx {
     xrad_scene_builder *b;
     const char *path;
@@ -34,9 +56,12 @@ typedef struct import_ctx {
     uint32_t *material_index; /* per assimp material: builder index, or UINT32_MAX */
     uint32_t instances;       /* mesh instances added */
     uint32_t triangles;
-    /* What is ignored, counted for the warnings. */
+    uint32_t surfaces_before; /* the builder's surfaces before this file */
+    /* What is ignored, counted for the warnings, and where it was first. */
     uint32_t textured, metallic, transmissive, clamped, skinned, morphed, non_triangle;
+    uint32_t zero_area;
     char clamped_name[64];
+    char non_triangle_where[160], zero_area_where[160];
 } import_ctx;
 
 bool scene_import_supported(const char *path)
@@ -56,6 +81,18 @@ static float color_max(struct aiColor4D c)
     return fmaxf(c.r, fmaxf(c.g, c.b));
 }
 
+/* A name from the file, fit for a message or the builder (which refuses
+ * control characters): at most len - 1 bytes of it, control characters
+ * as '?'. Returns out. */
+static const char *clean(const char *in, char *out, size_t len)
+{
+    size_t n = 0;
+    for (; in[n] && n + 1 < len; n++)
+        out[n] = (unsigned char)in[n] < 0x20 || in[n] == 0x7f ? '?' : in[n];
+    out[n] = '\0';
+    return out;
+}
+
 /* Builder index of assimp material m, added on first use. */
 static xrad_status import_material(import_ctx *c, uint32_t m, uint32_t *out)
 {
@@ -64,12 +101,27 @@ static xrad_status import_material(import_ctx *c, uint32_t m, uint32_t *out)
         return XRAD_OK;
     }
     const struct aiMaterial *am = c->ai->mMaterials[m];
-    struct aiString name;
+    struct aiString name = {0};
     char mname[SCENE_NAME_MAX];
+    char own[41];
     if (aiGetMaterialString(am, AI_MATKEY_NAME, &name) == aiReturn_SUCCESS && name.length)
-        snprintf(mname, sizeof(mname), "%.20s/%.40s", c->desc->prefix, name.data);
+        snprintf(mname, sizeof(mname), "%.20s/%s", c->desc->prefix,
+                 clean(name.data, own, sizeof(own)));
     else
         snprintf(mname, sizeof(mname), "%.20s/material%u", c->desc->prefix, m);
+    /* glTF lets two materials share a name; the builder does not. */
+    for (uint32_t k = 0; k < m && name.length; k++) {
+        struct aiString other;
+        char theirs[41];
+        if (c->material_index[k] != UINT32_MAX &&
+            aiGetMaterialString(c->ai->mMaterials[k], AI_MATKEY_NAME, &other) ==
+                aiReturn_SUCCESS &&
+            !strcmp(clean(other.data, theirs, sizeof(theirs)), own)) {
+            size_t len = strlen(mname);
+            snprintf(mname + len, sizeof(mname) - len, "#%u", m);
+            break;
+        }
+    }
 
     /* glTF's baseColorFactor; OBJ's Kd (assimp's diffuse) otherwise. */
     struct aiColor4D base = {0.8f, 0.8f, 0.8f, 1};
@@ -157,23 +209,85 @@ static double det3(const struct aiMatrix4x4 *m)
            m->a3 * ((double)m->b1 * m->c2 - (double)m->b2 * m->c1);
 }
 
-static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
-                            const struct aiMatrix4x4 *world, const struct aiMesh *mesh)
+/* "node 'N': mesh 'M'" for messages: assimp names the mesh of a glTF
+ * primitive after its glTF mesh ("M", or "M-K" for primitive K of several);
+ * a nameless one is called by its index. */
+static void mesh_where(const import_ctx *c, const struct aiNode *node, uint32_t mi, char *out,
+                       size_t len)
 {
+    const struct aiMesh *mesh = c->ai->mMeshes[mi];
+    char mname[80], a[61], b[61];
+    if (mesh->mName.length)
+        snprintf(mname, sizeof(mname), "'%s'", clean(mesh->mName.data, a, sizeof(a)));
+    else
+        snprintf(mname, sizeof(mname), "#%u", mi);
+    snprintf(out, len, "node '%s': mesh %s", clean(node->mName.data, b, sizeof(b)), mname);
+}
+
+static bool matrix_finite(const struct aiMatrix4x4 *m)
+{
+    const float *x = &m->a1;
+    for (int k = 0; k < 16; k++)
+        if (!isfinite(x[k]))
+            return false;
+    return true;
+}
+
+static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
+                            const struct aiMatrix4x4 *world, uint32_t mi)
+{
+    char where[160];
+    mesh_where(c, node, mi, where, sizeof(where));
+    const struct aiMesh *mesh = c->ai->mMeshes[mi];
     if (mesh->mNumBones)
         c->skinned++;
     if (mesh->mNumAnimMeshes)
         c->morphed++;
-    if (!(mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) || mesh->mNumVertices == 0) {
-        c->non_triangle++;
-        return XRAD_OK;
-    }
     uint32_t nt = 0;
-    for (uint32_t f = 0; f < mesh->mNumFaces; f++)
-        nt += mesh->mFaces[f].mNumIndices == 3;
-    c->non_triangle += nt < mesh->mNumFaces;
+    if ((mesh->mPrimitiveTypes & aiPrimitiveType_TRIANGLE) && mesh->mNumVertices && mesh->mFaces)
+        for (uint32_t f = 0; f < mesh->mNumFaces; f++)
+            nt += mesh->mFaces[f].mNumIndices == 3;
+    /* aiProcess_SortByPType leaves points and lines in meshes of their own. */
+    if (nt < mesh->mNumFaces && c->non_triangle++ == 0)
+        snprintf(c->non_triangle_where, sizeof(c->non_triangle_where), "%s", where);
     if (nt == 0)
         return XRAD_OK;
+    /* Refused before allocating: the builder takes at most this many
+     * triangles a mesh, and two triangles make at least one surface. */
+    if (nt > SCENE_MAX_SURFACES)
+        return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: %s: %u triangles, more than %u",
+                         c->path, where, nt, SCENE_MAX_SURFACES);
+    if (c->triangles + (uint64_t)nt > 2ull * SCENE_MAX_SURFACES)
+        return xrad_fail(c->err, XRAD_ERROR_INPUT,
+                         "%s: %s: more than %u triangles in all the mesh instances (a scene "
+                         "has at most %u surfaces)", c->path, where, 2 * SCENE_MAX_SURFACES,
+                         SCENE_MAX_SURFACES);
+    uint32_t mat = c->desc->material;
+    if (mat == UINT32_MAX && mesh->mMaterialIndex >= c->ai->mNumMaterials)
+        return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: %s: material %u does not exist (%u "
+                         "materials)", c->path, where, mesh->mMaterialIndex,
+                         c->ai->mNumMaterials);
+    /* ValidateDataStructure checks the indices too; checked again here,
+     * as the builder would, so that the message names the file's mesh. */
+    for (uint32_t f = 0, t = 0; f < mesh->mNumFaces; f++) {
+        const struct aiFace *face = &mesh->mFaces[f];
+        if (face->mNumIndices != 3)
+            continue;
+        for (int k = 0; k < 3; k++)
+            if (face->mIndices[k] >= mesh->mNumVertices)
+                return xrad_fail(c->err, XRAD_ERROR_INPUT,
+                                 "%s: %s: triangle %u: vertex index %u is out of range (%u "
+                                 "vertices)", c->path, where, t, face->mIndices[k],
+                                 mesh->mNumVertices);
+        t++;
+    }
+    for (uint32_t v = 0; v < mesh->mNumVertices; v++) {
+        struct aiVector3D p = mesh->mVertices[v];
+        if (!(isfinite(p.x) && isfinite(p.y) && isfinite(p.z)))
+            return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: %s: vertex %u is not finite (%g, "
+                             "%g, %g)", c->path, where, v, p.x, p.y, p.z);
+    }
+
     float *pos = malloc(3ull * mesh->mNumVertices * sizeof(float));
     uint32_t *idx = malloc(3ull * nt * sizeof(uint32_t));
     if (!pos || !idx) {
@@ -181,8 +295,16 @@ static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
         free(idx);
         return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->path);
     }
-    for (uint32_t v = 0; v < mesh->mNumVertices; v++)
-        apply(world, mesh->mVertices[v], 1, &pos[3 * v]);
+    xrad_status st = XRAD_OK;
+    for (uint32_t v = 0; v < mesh->mNumVertices && !st; v++) {
+        float *q = &pos[3 * v];
+        apply(world, mesh->mVertices[v], 1, q);
+        double m = fmax(fabs(q[0]), fmax(fabs(q[1]), fabs(q[2])));
+        if (!(m <= SCENE_MAX_COORD))
+            st = xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: %s: vertex %u lies at (%g, %g, %g) m "
+                           "through the node transforms, beyond %g m", c->path, where, v, q[0],
+                           q[1], q[2], SCENE_MAX_COORD);
+    }
     /* A mirroring transform turns the winding, and so the front side. */
     bool mirror = det3(world) < 0;
     uint32_t t = 0;
@@ -195,13 +317,12 @@ static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
         idx[3 * t + 2] = face->mIndices[mirror ? 1 : 2];
         t++;
     }
-    uint32_t mat = c->desc->material;
-    xrad_status st = XRAD_OK;
-    if (mat == UINT32_MAX)
+    if (!st && mat == UINT32_MAX)
         st = import_material(c, mesh->mMaterialIndex, &mat);
     char name[SCENE_NAME_MAX];
+    char own[41];
     const char *base = c->desc->name           ? c->desc->name
-                       : node->mName.length ? node->mName.data
+                       : node->mName.length ? clean(node->mName.data, own, sizeof(own))
                                             : "node";
     snprintf(name, sizeof(name), "%.40s.%u", base, c->instances++);
     xrad_mesh_desc md = {.name = name,
@@ -211,8 +332,20 @@ static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
                          .triangle_count = nt,
                          .material = mat,
                          .density = c->desc->density};
-    if (!st)
+    xrad_scene *sc = scene_builder_scene(c->b);
+    uint32_t skipped = sc ? sc->skipped_triangles : 0;
+    if (!st) {
         st = xrad_scene_builder_add_mesh(c->b, &md, c->err);
+        /* Placed in a scene file, the builder's message names the scene
+         * file; the model file is said here. */
+        if (st && !strstr(c->err->message, c->path))
+            xrad_error_prefix(c->err, "%s: %s", c->path, where);
+    }
+    if (!st && sc && sc->skipped_triangles > skipped) {
+        if (c->zero_area == 0)
+            snprintf(c->zero_area_where, sizeof(c->zero_area_where), "%s", where);
+        c->zero_area += sc->skipped_triangles - skipped;
+    }
     c->triangles += nt;
     free(pos);
     free(idx);
@@ -220,39 +353,54 @@ static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
 }
 
 static xrad_status add_node(import_ctx *c, const struct aiNode *node,
-                            const struct aiMatrix4x4 *parent)
+                            const struct aiMatrix4x4 *parent, uint32_t depth)
 {
+    char nname[61];
+    clean(node->mName.data, nname, sizeof(nname));
+    if (depth > NODE_DEPTH_MAX)
+        return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: node '%.60s': nested deeper than %u "
+                         "levels", c->path, nname, NODE_DEPTH_MAX);
     struct aiMatrix4x4 world = mul(parent, &node->mTransformation);
+    if (!matrix_finite(&world))
+        return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: node '%.60s': its transform (through "
+                         "its parents') is not finite", c->path, nname);
     for (uint32_t k = 0; k < node->mNumMeshes; k++) {
-        xrad_status st = add_mesh(c, node, &world, c->ai->mMeshes[node->mMeshes[k]]);
+        if (node->mMeshes[k] >= c->ai->mNumMeshes)
+            return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: node '%.60s': mesh %u does not "
+                             "exist (%u meshes)", c->path, nname, node->mMeshes[k],
+                             c->ai->mNumMeshes);
+        xrad_status st = add_mesh(c, node, &world, node->mMeshes[k]);
         if (st)
             return st;
     }
     for (uint32_t k = 0; k < node->mNumChildren; k++) {
-        xrad_status st = add_node(c, node->mChildren[k], &world);
+        xrad_status st = add_node(c, node->mChildren[k], &world, depth + 1);
         if (st)
             return st;
     }
     return XRAD_OK;
 }
 
-/* The node named `name` and its world transform (of its parent chain). */
+/* The node named `name` and its world transform (of its parent chain);
+ * not looked for deeper than add_node goes. */
 static const struct aiNode *find_node(const struct aiNode *n, const char *name,
-                                      const struct aiMatrix4x4 *parent, struct aiMatrix4x4 *out)
+                                      const struct aiMatrix4x4 *parent, struct aiMatrix4x4 *out,
+                                      uint32_t depth)
 {
     if (!strcmp(n->mName.data, name)) {
         *out = *parent;
         return n;
     }
+    if (depth >= NODE_DEPTH_MAX)
+        return NULL;
     struct aiMatrix4x4 world = mul(parent, &n->mTransformation);
     for (uint32_t k = 0; k < n->mNumChildren; k++) {
-        const struct aiNode *f = find_node(n->mChildren[k], name, &world, out);
+        const struct aiNode *f = find_node(n->mChildren[k], name, &world, out, depth + 1);
         if (f)
             return f;
     }
     return NULL;
 }
-
 static xrad_status take_camera(import_ctx *c)
 {
     const struct aiScene *ai = c->ai;
@@ -266,14 +414,16 @@ static xrad_status take_camera(import_ctx *c)
             return XRAD_OK;
         char list[256] = "";
         size_t len = 0;
-        for (uint32_t k = 0; k < ai->mNumCameras && len < sizeof(list); k++)
+        for (uint32_t k = 0; k < ai->mNumCameras && len < sizeof(list); k++) {
+            char cname[61];
             len += (size_t)snprintf(list + len, sizeof(list) - len, "%s'%s'", k ? ", " : "",
-                                    ai->mCameras[k]->mName.data);
+                                    clean(ai->mCameras[k]->mName.data, cname, sizeof(cname)));
+        }
         return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: no camera named '%s' (the file has %s)",
                          c->path, want, ai->mNumCameras ? list : "none");
     }
     struct aiMatrix4x4 identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, world;
-    const struct aiNode *node = find_node(ai->mRootNode, cam->mName.data, &identity, &world);
+    const struct aiNode *node = find_node(ai->mRootNode, cam->mName.data, &identity, &world, 0);
     if (node)
         world = mul(&world, &node->mTransformation);
     else
@@ -299,30 +449,350 @@ static xrad_status take_camera(import_ctx *c)
         cd.height = aspect > 1 ? (uint32_t)lround(512 / aspect) : 512;
     }
     xrad_status st = xrad_scene_builder_set_camera(c->b, &cd, c->err);
-    if (st)
-        xrad_error_prefix(c->err, "%s: camera '%s': ", c->path, cam->mName.data);
+    if (st) {
+        char cname[61];
+        xrad_error_prefix(c->err, "%s: camera '%s'", c->path,
+                          clean(cam->mName.data, cname, sizeof(cname)));
+    }
     return st;
 }
 
-xrad_status scene_import_model(xrad_scene_builder *b, const char *path,
-                               const scene_import_desc *desc, xrad_error *err)
+/* ------------------------------------------------------------ assimp calls */
+
+/* assimp's log lines are "Warn,  T0: text" and "Error, T0: text"; its
+ * warnings and the errors it recovers from (a face dropped, a material
+ * file not found) are passed on, once each. Control characters (the
+ * file's own names and bytes appear in them) become '?'. */
+static void log_line(const char *msg, char *user)
 {
-    if (!scene_import_supported(path))
-        return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "%s: not a model file xrad reads (.gltf, .glb, .obj, .ply)", path);
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: cannot open", path);
-    fclose(f);
-    /* Triangulate polygons, weld vertices, sort points and lines out of the
-     * triangle meshes; the node tree and its transforms are kept. */
+    import_log *log = (import_log *)user;
+    if (strncmp(msg, "Warn", 4) && strncmp(msg, "Error", 5))
+        return;
+    const char *text = strstr(msg, ": ");
+    text = text ? text + 2 : msg;
+    /* Only a consequence of faces dropped or points and lines sorted out,
+     * both said on their own. */
+    if (strstr(text, "unreferenced vertices"))
+        return;
+    char line[ASSIMP_LINE_MAX];
+    size_t n = 0;
+    for (; text[n] && n + 1 < sizeof(line); n++)
+        line[n] = (unsigned char)text[n] < 0x20 || text[n] == 0x7f ? '?' : text[n];
+    while (n && line[n - 1] == '?')
+        n--; /* the trailing newline */
+    line[n] = '\0';
+    for (uint32_t k = 0; k < log->lines; k++)
+        if (!strcmp(log->line[k], line))
+            return;
+    if (log->lines < ASSIMP_LINES)
+        memcpy(log->line[log->lines++], line, n + 1);
+    else
+        log->more++;
+}
+
+/* A model file held in memory, served to assimp under its name; every
+ * other file it asks for (a glTF's .bin, an OBJ's .mtl) is not there, so
+ * that memory input never reaches the file system. */
+typedef struct memory_file {
+    const char *name;
+    const unsigned char *data;
+    size_t size;
+} memory_file;
+
+typedef struct memory_cursor {
+    const memory_file *file;
+    size_t pos;
+} memory_cursor;
+
+static size_t memory_read(struct aiFile *f, char *out, size_t size, size_t count)
+{
+    memory_cursor *m = (memory_cursor *)f->UserData;
+    if (size == 0)
+        return 0;
+    size_t n = (m->file->size - m->pos) / size;
+    if (count < n)
+        n = count;
+    memcpy(out, m->file->data + m->pos, n * size);
+    m->pos += n * size;
+    return n;
+}
+
+static size_t memory_write(struct aiFile *f, const char *in, size_t size, size_t count)
+{
+    (void)f, (void)in, (void)size, (void)count;
+    return 0;
+}
+
+static size_t memory_tell(struct aiFile *f)
+{
+    return ((memory_cursor *)f->UserData)->pos;
+}
+
+static size_t memory_size(struct aiFile *f)
+{
+    return ((memory_cursor *)f->UserData)->file->size;
+}
+
+static enum aiReturn memory_seek(struct aiFile *f, size_t off, enum aiOrigin origin)
+{
+    memory_cursor *m = (memory_cursor *)f->UserData;
+    size_t base = origin == aiOrigin_SET ? 0 : origin == aiOrigin_CUR ? m->pos : m->file->size;
+    if (origin != aiOrigin_SET && origin != aiOrigin_CUR && origin != aiOrigin_END)
+        return aiReturn_FAILURE;
+    /* Offsets are unsigned: a step back arrives wrapped around. */
+    size_t to = base + off;
+    if (to > m->file->size)
+        return aiReturn_FAILURE;
+    m->pos = to;
+    return aiReturn_SUCCESS;
+}
+
+static void memory_flush(struct aiFile *f)
+{
+    (void)f;
+}
+
+static struct aiFile *memory_open(struct aiFileIO *io, const char *name, const char *mode)
+{
+    const memory_file *file = (const memory_file *)io->UserData;
+    if (strcmp(name, file->name) || strchr(mode, 'w') || strchr(mode, 'a'))
+        return NULL;
+    struct aiFile *f = malloc(sizeof(*f));
+    memory_cursor *m = malloc(sizeof(*m));
+    if (!f || !m) {
+        free(f);
+        free(m);
+        return NULL;
+    }
+    *m = (memory_cursor){.file = file};
+    *f = (struct aiFile){.ReadProc = memory_read,
+                         .WriteProc = memory_write,
+                         .TellProc = memory_tell,
+                         .FileSizeProc = memory_size,
+                         .SeekProc = memory_seek,
+                         .FlushProc = memory_flush,
+                         .UserData = (aiUserData)m};
+    return f;
+}
+
+static void memory_close(struct aiFileIO *io, struct aiFile *f)
+{
+    (void)io;
+    if (f)
+        free(f->UserData);
+    free(f);
+}
+
+/* assimp's logger and its last error string are process-wide: one import
+ * at a time, so that two scenes loaded on two threads (xrad.h allows it)
+ * get their own messages. An application that also gives assimp a C++
+ * DefaultLogger of its own loses it here (aiDetachLogStream kills the
+ * logger when no C stream is left). */
+static pthread_mutex_t import_lock = PTHREAD_MUTEX_INITIALIZER;
+
+/* Whether the faces of every mesh are what assimp's post-processing
+ * assumes (it asserts rather than checks, and Debian's assimp keeps its
+ * asserts: abort()): every face has indices, in range, and a mesh marked
+ * as having polygons has one (Triangulate's assert; a face of no indices
+ * is marked a polygon). Else false, the reason in why. */
+static bool faces_sound(const struct aiScene *ai, char *why, size_t why_len)
+{
+    for (uint32_t m = 0; m < ai->mNumMeshes; m++) {
+        const struct aiMesh *mesh = ai->mMeshes[m];
+        char name[80];
+        if (mesh->mName.length)
+        {
+            char own[61];
+            snprintf(name, sizeof(name), "'%s'", clean(mesh->mName.data, own, sizeof(own)));
+        }
+        else
+            snprintf(name, sizeof(name), "#%u", m);
+        if ((mesh->mNumVertices && !mesh->mVertices) || (mesh->mNumFaces && !mesh->mFaces)) {
+            snprintf(why, why_len, "mesh %s: no vertex or face data", name);
+            return false;
+        }
+        uint32_t most = 0;
+        for (uint32_t f = 0; f < mesh->mNumFaces; f++) {
+            const struct aiFace *face = &mesh->mFaces[f];
+            if (face->mNumIndices == 0 || !face->mIndices) {
+                snprintf(why, why_len, "mesh %s: face %u has no vertices", name, f);
+                return false;
+            }
+            for (uint32_t k = 0; k < face->mNumIndices; k++)
+                if (face->mIndices[k] >= mesh->mNumVertices) {
+                    snprintf(why, why_len,
+                             "mesh %s: face %u: vertex index %u is out of range (%u vertices)",
+                             name, f, face->mIndices[k], mesh->mNumVertices);
+                    return false;
+                }
+            if (face->mNumIndices > most)
+                most = face->mNumIndices;
+        }
+        if ((mesh->mPrimitiveTypes & aiPrimitiveType_POLYGON) && most <= 3) {
+            snprintf(why, why_len, "mesh %s: marked as having polygons, has none", name);
+            return false;
+        }
+    }
+    return true;
+}
+
+/* The file through `io` (NULL: the file system); on failure NULL and the
+ * reason (assimp's, or faces_sound's) in why, `refused` telling which. */
+static const struct aiScene *import_file(const char *path, struct aiFileIO *io, import_log *log,
+                                         char *why, size_t why_len, bool *refused)
+{
+    *refused = false;
+    pthread_mutex_lock(&import_lock);
+    struct aiLogStream stream = {.callback = log_line, .user = (char *)log};
+    aiAttachLogStream(&stream);
+    /* Read and validate first, check the faces, then triangulate
+     * polygons, weld vertices and sort points and lines out of the
+     * triangle meshes (the node tree and its transforms are kept). The
+     * second step has no validation: when a step fails there, assimp 5.2's
+     * aiApplyPostProcessing releases the scene it has already deleted;
+     * add_mesh checks what it takes instead. */
     const struct aiScene *ai =
-        aiImportFile(path, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
-                               aiProcess_SortByPType | aiProcess_ValidateDataStructure);
-    if (!ai || !ai->mRootNode)
-        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: cannot import: %s", path,
-                         aiGetErrorString());
-    import_ctx c = {.b = b, .path = path, .ai = ai, .desc = desc, .err = err};
+        aiImportFileExWithProperties(path, aiProcess_ValidateDataStructure, io, NULL);
+    if (ai && ai->mRootNode && !faces_sound(ai, why, why_len)) {
+        *refused = true;
+        aiReleaseImport(ai);
+        ai = NULL;
+    } else if (ai && ai->mRootNode) {
+        ai = aiApplyPostProcessing(ai, aiProcess_Triangulate | aiProcess_JoinIdenticalVertices |
+                                           aiProcess_SortByPType);
+    }
+    aiDetachLogStream(&stream);
+    if (!*refused && (!ai || !ai->mRootNode)) {
+        snprintf(why, why_len, "%s", aiGetErrorString());
+        if (ai)
+            aiReleaseImport(ai);
+        ai = NULL;
+    }
+    for (char *p = why; !ai && *p; p++)
+        if ((unsigned char)*p < 0x20)
+            *p = '?';
+    pthread_mutex_unlock(&import_lock);
+    return ai;
+}
+
+/* ---------------------------------------------------------------- PLY check */
+
+static uint32_t ply_type_size(const char *t)
+{
+    static const struct {
+        const char *name;
+        uint32_t size;
+    } types[] = {{"char", 1},   {"uchar", 1},  {"int8", 1},    {"uint8", 1},
+                 {"short", 2},  {"ushort", 2}, {"int16", 2},   {"uint16", 2},
+                 {"int", 4},    {"uint", 4},   {"int32", 4},   {"uint32", 4},
+                 {"float", 4},  {"float32", 4}, {"double", 8}, {"float64", 8}};
+    for (size_t k = 0; k < sizeof(types) / sizeof(types[0]); k++)
+        if (!strcmp(t, types[k].name))
+            return types[k].size;
+    return 1;
+}
+
+/* assimp's PLY reader reserves memory for an element count as written in
+ * the header before reading any (3e9 vertices: 11 GB and a bad_alloc), so
+ * the counts are checked against the body here first: an instance takes
+ * at least its fixed-size properties' bytes in a binary file and two bytes
+ * (a digit and a separator) per property in ASCII; at least one byte in
+ * any case, since assimp reserves per instance even for an element without
+ * properties. It also never returns from a header whose end_header is not
+ * a line of its own (missing, or taken as a property's name), so the
+ * header's lines are checked for that too. `head` is the file's first
+ * head_len bytes, of size in all. Lines this does not know are left to
+ * assimp, which skips them. */
+static xrad_status ply_check(const char *path, const char *head, size_t head_len, uint64_t size,
+                             xrad_error *err)
+{
+    if (head_len < 4 || memcmp(head, "ply", 3))
+        return XRAD_OK;
+    bool binary = false, ended = false;
+    char ename[64] = "";
+    uint64_t count = 0, need = 0;
+    double total = 0; /* bytes, over all elements: double cannot wrap */
+    const char *p = head, *stop = head + head_len;
+    for (uint32_t number = 1; p < stop && !ended; number++) {
+        const char *eol = memchr(p, '\n', (size_t)(stop - p));
+        if (!eol)
+            break; /* no end of line: no end_header line either */
+        char line[256], w[5][64] = {{0}};
+        size_t n = (size_t)(eol - p) < sizeof(line) - 1 ? (size_t)(eol - p) : sizeof(line) - 1;
+        memcpy(line, p, n);
+        line[n] = '\0';
+        p = eol + 1;
+        int words = sscanf(line, "%63s %63s %63s %63s %63s", w[0], w[1], w[2], w[3], w[4]);
+        bool list = words >= 2 && !strcmp(w[1], "list");
+        if (words >= 1 && !strcmp(w[0], "end_header")) {
+            ended = true;
+        } else if (words >= 2 && !strcmp(w[0], "format")) {
+            binary = !strncmp(w[1], "binary", 6);
+        } else if (words >= 1 && !strcmp(w[0], "element")) {
+            if (words < 3 || w[2][0] < '0' || w[2][0] > '9')
+                return xrad_fail(err, XRAD_ERROR_INPUT, "%s: PLY header: line %u: an element "
+                                 "needs a name and a count", path, number);
+            total += (double)count * (double)(need ? need : 1);
+            snprintf(ename, sizeof(ename), "%s", w[1]);
+            count = strtoull(w[2], NULL, 10);
+            need = 0;
+        } else if (words >= 1 && !strcmp(w[0], "property")) {
+            if (words < (list ? 5 : 3))
+                return xrad_fail(err, XRAD_ERROR_INPUT, "%s: PLY header: line %u: a property "
+                                 "needs %s", path, number,
+                                 list ? "a count type, an item type and a name"
+                                      : "a type and a name");
+            need += binary ? ply_type_size(list ? w[2] : w[1]) : 2;
+        }
+        /* Before the end of the header is known: against the whole file. */
+        if (count > size || (double)count * (double)(need ? need : 1) > (double)size)
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "%s: PLY header: element '%s': %llu of at least %llu byte(s) "
+                             "each do not fit in the file's %llu bytes", path, ename,
+                             (unsigned long long)count, (unsigned long long)(need ? need : 1),
+                             (unsigned long long)size);
+    }
+    if (!ended)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: PLY header: no end_header line in the "
+                         "first %zu bytes", path, head_len);
+    uint64_t body = size - (uint64_t)(p - head);
+    if (count > body || (double)count * (double)(need ? need : 1) > (double)body + 1)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: PLY header: element '%s': %llu of at least %llu byte(s) each do "
+                         "not fit in the %llu bytes after the header", path, ename,
+                         (unsigned long long)count, (unsigned long long)(need ? need : 1),
+                         (unsigned long long)body);
+    total += (double)count * (double)(need ? need : 1);
+    if (total > (double)body + 1)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: PLY header: its element counts need at "
+                         "least %.0f bytes, the file has %llu after the header", path, total,
+                         (unsigned long long)body);
+    return XRAD_OK;
+}
+
+static bool is_ply(const char *path)
+{
+    const char *dot = strrchr(path, '.');
+    return dot && !strcasecmp(dot, ".ply");
+}
+
+/* ------------------------------------------------------------------ import */
+
+/* The part shared by files and memory: `path` names the model in
+ * messages; io serves it (NULL: the file system). */
+static xrad_status import_scene(xrad_scene_builder *b, const char *path, struct aiFileIO *io,
+                                const scene_import_desc *desc, xrad_error *err)
+{
+    import_log log = {0};
+    char why[512];
+    bool refused;
+    const struct aiScene *ai = import_file(path, io, &log, why, sizeof(why), &refused);
+    if (!ai)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: %s%s", path,
+                         refused ? "" : "cannot import: ", why);
+    xrad_scene *sc = scene_builder_scene(b);
+    import_ctx c = {.b = b, .path = path, .ai = ai, .desc = desc, .err = err,
+                    .surfaces_before = sc ? sc->surface_count : 0};
     c.material_index = malloc((ai->mNumMaterials + 1) * sizeof(uint32_t));
     xrad_status st = XRAD_OK;
     if (!c.material_index)
@@ -333,17 +803,23 @@ xrad_status scene_import_model(xrad_scene_builder *b, const char *path,
     struct aiMatrix4x4 identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, parent;
     const struct aiNode *root = ai->mRootNode;
     if (!st && desc->node) {
-        root = find_node(ai->mRootNode, desc->node, &identity, &parent);
+        root = find_node(ai->mRootNode, desc->node, &identity, &parent, 0);
         if (!root)
             st = xrad_fail(err, XRAD_ERROR_INPUT, "%s: no node named '%s'", path, desc->node);
     } else {
         parent = identity;
     }
     if (!st)
-        st = add_node(&c, root, &parent);
+        st = add_node(&c, root, &parent, 0);
     if (!st && c.triangles == 0)
-        st = xrad_fail(err, XRAD_ERROR_INPUT, "%s%s%s: no triangles", path,
-                       desc->node ? ": node " : "", desc->node ? desc->node : "");
+        st = xrad_fail(err, XRAD_ERROR_INPUT, "%s%s%s: no triangles%s", path,
+                       desc->node ? ": node " : "", desc->node ? desc->node : "",
+                       c.non_triangle ? " (points or lines only)" : "");
+    /* Every triangle left out: said here rather than as an object without
+     * surfaces. */
+    if (!st && sc && sc->surface_count == c.surfaces_before)
+        st = xrad_fail(err, XRAD_ERROR_INPUT, "%s: all %u triangle(s) have zero area (the "
+                       "first in %s)", path, c.triangles, c.zero_area_where);
     if (!st && desc->take_camera)
         st = take_camera(&c);
     if (!st) {
@@ -366,8 +842,11 @@ xrad_status scene_import_model(xrad_scene_builder *b, const char *path,
             scene_builder_warn(b, "%s: %u mesh(es) with morph targets: the base shape is used",
                                path, c.morphed);
         if (c.non_triangle)
-            scene_builder_warn(b, "%s: %u mesh(es) of points or lines: ignored", path,
-                               c.non_triangle);
+            scene_builder_warn(b, "%s: %u mesh(es) of points or lines: ignored (first: %s)",
+                               path, c.non_triangle, c.non_triangle_where);
+        if (c.zero_area)
+            scene_builder_warn(b, "%s: %u zero-area triangle(s) left out (first in %s)", path,
+                               c.zero_area, c.zero_area_where);
         if (ai->mNumAnimations)
             scene_builder_warn(b, "%s: %u animation(s): ignored (animate the object in a "
                                "scene file)", path, ai->mNumAnimations);
@@ -377,8 +856,63 @@ xrad_status scene_import_model(xrad_scene_builder *b, const char *path,
         if (!desc->take_camera && ai->mNumCameras)
             scene_builder_warn(b, "%s: %u camera(s): ignored (the scene file's camera is used)",
                                path, ai->mNumCameras);
+        for (uint32_t k = 0; k < log.lines; k++)
+            scene_builder_warn(b, "%s: assimp: %s", path, log.line[k]);
+        if (log.more)
+            scene_builder_warn(b, "%s: assimp: %u more message(s)", path, log.more);
     }
     free(c.material_index);
     aiReleaseImport(ai);
     return st;
+}
+
+xrad_status scene_import_model(xrad_scene_builder *b, const char *path,
+                               const scene_import_desc *desc, xrad_error *err)
+{
+    if (!scene_import_supported(path))
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: not a model file xrad reads (.gltf, .glb, .obj, .ply)", path);
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: cannot open", path);
+    xrad_status st = XRAD_OK;
+    if (is_ply(path)) {
+        char *head = malloc(PLY_HEADER_MAX);
+        long size = -1;
+        size_t n = 0;
+        if (head && !fseek(f, 0, SEEK_END) && (size = ftell(f)) >= 0 && !fseek(f, 0, SEEK_SET))
+            n = fread(head, 1, PLY_HEADER_MAX, f);
+        if (!head || size < 0 || ferror(f))
+            st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: cannot read", path);
+        else
+            st = ply_check(path, head, n, (uint64_t)size, err);
+        free(head);
+    }
+    fclose(f);
+    if (!st)
+        st = import_scene(b, path, NULL, desc, err);
+    return st;
+}
+
+xrad_status scene_import_memory(xrad_scene_builder *b, const char *name, const void *data,
+                                size_t size, const scene_import_desc *desc, xrad_error *err)
+{
+    if (!scene_import_supported(name))
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: not a model file xrad reads (.gltf, .glb, .obj, .ply)", name);
+    /* assimp's stream reader takes an unsigned int size. */
+    if (size > UINT32_MAX / 2)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: larger than %u bytes", name,
+                         UINT32_MAX / 2);
+    if (is_ply(name)) {
+        xrad_status st = ply_check(name, data, size < PLY_HEADER_MAX ? size : PLY_HEADER_MAX,
+                                   size, err);
+        if (st)
+            return st;
+    }
+    memory_file file = {.name = name, .data = data, .size = size};
+    struct aiFileIO io = {.OpenProc = memory_open,
+                          .CloseProc = memory_close,
+                          .UserData = (aiUserData)&file};
+    return import_scene(b, name, &io, desc, err);
 }

@@ -100,9 +100,27 @@ typedef struct scene_import_desc {
 /* Whether the file name ends in an extension scene_import_model reads. */
 bool scene_import_supported(const char *path);
 
-/* Adds the file's triangle meshes to the builder's current object. */
+/* Adds the file's triangle meshes to the builder's current object. Bad
+ * input (what assimp refuses, non-finite or out-of-range vertices and
+ * indices, counts that cannot fit, no triangles) is XRAD_ERROR_INPUT naming
+ * the file and, where there is one, the node and mesh (a glTF primitive);
+ * what assimp repairs (faces dropped) and what xrad ignores (points, lines,
+ * zero-area triangles) become warnings. Imports run one at a time in the
+ * process (assimp's logger and last error are global). */
 xrad_status scene_import_model(xrad_scene_builder *b, const char *path,
                                const scene_import_desc *desc, xrad_error *err);
+
+/* The same from `size` bytes at `data` (tests/fuzz/fuzz_import.c): `name`
+ * stands for the file in messages and its extension picks the format;
+ * files the model refers to (a glTF's .bin, an OBJ's .mtl) are not found,
+ * so that memory input never reaches the file system. */
+xrad_status scene_import_memory(xrad_scene_builder *b, const char *name, const void *data,
+                                size_t size, const scene_import_desc *desc, xrad_error *err);
+
+/* A model in memory as a scene by itself, as xrad_scene_load makes one of
+ * a model file (scene_load.c). */
+xrad_status scene_load_model_memory(const char *name, const void *data, size_t size,
+                                    xrad_scene **out, xrad_error *err);
 
 /* Allocates and fills the elements of every surface (whose nu, nv are set),
  * the objects' element ranges, and packs the atlas. */

@@ -11,8 +11,11 @@
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
 
-static xrad_status load_model(const char *path, const xrad_scene_load_desc *desc,
-                              xrad_scene **out, xrad_error *err)
+/* A model file as a scene; from `data` (size bytes) when not NULL, `path`
+ * then naming it. */
+static xrad_status load_model(const char *path, const void *data, size_t size,
+                              const xrad_scene_load_desc *desc, xrad_scene **out,
+                              xrad_error *err)
 {
     /* The object is the file's name without its directory and extension. */
     const char *base = strrchr(path, '/');
@@ -33,11 +36,19 @@ static xrad_status load_model(const char *path, const xrad_scene_load_desc *desc
                             .camera = desc ? desc->camera : NULL,
                             .material = UINT32_MAX};
     if (!st)
-        st = scene_import_model(b, path, &id, err);
+        st = data ? scene_import_memory(b, path, data, size, &id, err)
+                  : scene_import_model(b, path, &id, err);
     if (!st)
         st = xrad_scene_builder_finish(b, out, err);
     xrad_scene_builder_destroy(&b);
     return st;
+}
+
+xrad_status scene_load_model_memory(const char *name, const void *data, size_t size,
+                                    xrad_scene **out, xrad_error *err)
+{
+    *out = NULL;
+    return load_model(name, data ? data : "", size, NULL, out, err);
 }
 
 xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err)
@@ -50,7 +61,7 @@ xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *d
 {
     *out = NULL;
     if (scene_import_supported(path))
-        return load_model(path, desc, out, err);
+        return load_model(path, NULL, 0, desc, out, err);
     FILE *f = fopen(path, "rb");
     if (!f)
         /* A file that is not there or not ours to read is the caller's bad

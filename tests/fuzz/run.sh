@@ -5,7 +5,8 @@
 # Seeds: tests/fuzz/corpus/NAME/, tests/fuzz/regressions/NAME/ and, for the
 # scene parser, the shipped scenes/*.json, copied into OUTDIR/corpus (which
 # also collects what libFuzzer adds; it is rebuilt on every run, so runs are
-# repeatable). Dictionary: tests/fuzz/NAME.dict when present. A crashing,
+# repeatable). Dictionary: tests/fuzz/NAME.dict when present; LeakSanitizer
+# suppressions: tests/fuzz/NAME.lsan when present. A crashing,
 # leaking or hanging input is written to OUTDIR/ and its path printed; save it
 # in tests/fuzz/regressions/NAME/ so every build replays it. Prints
 # libFuzzer's execution count; exits 0 when nothing was found, else 1 (never
@@ -48,6 +49,11 @@ quiet=""
 UBSAN_OPTIONS=${UBSAN_OPTIONS:-halt_on_error=1:print_stacktrace=1}
 ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1}
 export UBSAN_OPTIONS ASAN_OPTIONS
+# Leaks in third-party code the harness cannot fix (NAME.lsan says which).
+if [ -f "$root/tests/fuzz/$name.lsan" ] && [ -z "${LSAN_OPTIONS:-}" ]; then
+    LSAN_OPTIONS="suppressions=$root/tests/fuzz/$name.lsan:print_suppressions=0"
+    export LSAN_OPTIONS
+fi
 
 log="$out/fuzz-$name.log"
 start=$(date +%s)

@@ -11,12 +11,21 @@
  *    its texture and its clamped base colour are listed as warnings;
  *  - bad input names the scene file, the object, the surface and the
  *    model file: a missing file, a node that is not there, a format
- *    xrad does not read.
+ *    xrad does not read;
+ *  - the broken glTF files of assimp-testmodels (issue 15): each is
+ *    refused with XRAD_ERROR_INPUT naming the file and, where the fault is
+ *    in one, the node, mesh or buffer, or, where assimp repairs it, loads
+ *    with warnings saying what was dropped;
+ *  - the import harness's seeds (tests/fuzz/corpus/import/, loaded from
+ *    memory as the harness does): NaN and Inf vertices, vertices beyond
+ *    the coordinate limit, indices out of range, zero-area triangles,
+ *    points and lines, PLY counts that cannot fit, a missing buffer.
  */
 #include <string.h>
 
 #include "harness.h"
 #include "scene/scene.h"
+#include "scene/scene_internal.h"
 #include "xrad.h"
 
 static xrad_scene *load(const char *rel)
@@ -150,8 +159,178 @@ static void errors(void)
         (const char *const[]){"field 'mesh.file'", "room.fbx", ".gltf", NULL});
     bad("no file", "{\"node\": \"x\"}",
         (const char *const[]){"field 'mesh.file'", "missing", NULL});
-    bad("extra key", "{\"file\": \"lamp-room.obj\", \"scale\": 2}",
-        (const char *const[]){"field 'mesh.scale'", "unknown key", NULL});
+    bad("extra key", "{\"file\": \"lamp-room.obj\", \"frobnicate\": 2}",
+        (const char *const[]){"field 'mesh.frobnicate'", "unknown key", NULL});
+}
+
+#define GLTF2 "/usr/share/assimp/models/glTF2/"
+
+/* Whether a warning of sc holds every string of want. */
+static int has_warning(const xrad_scene *sc, const char *const *want)
+{
+    for (uint32_t k = 0; k < xrad_scene_warning_count(sc); k++) {
+        int all = 1;
+        for (int i = 0; want[i] && all; i++)
+            all = strstr(xrad_scene_warning(sc, k), want[i]) != NULL;
+        if (all)
+            return 1;
+    }
+    return 0;
+}
+
+/* xrad_scene_load(path) must return `status`; want: strings of the
+ * message (an error) or of one warning (a load), the path always. */
+static void broken(const char *rel, xrad_status status, const char *const *want)
+{
+    char path[512];
+    snprintf(path, sizeof(path), GLTF2 "%s", rel);
+    xrad_scene *sc = NULL;
+    xrad_error err = {0};
+    xrad_status st = xrad_scene_load(path, &sc, &err);
+    CHECK(st == status, "%s: status %d, want %d: %s", rel, st, status, st ? err.message : "");
+    if (st == XRAD_OK) {
+        const char *const with_path[] = {path, NULL};
+        CHECK(has_warning(sc, with_path), "%s: no warning names the file", rel);
+        CHECK(has_warning(sc, want), "%s: no warning with '%s'...", rel, want[0]);
+        for (uint32_t k = 0; k < xrad_scene_warning_count(sc); k++)
+            fprintf(stderr, "  %s: warning: %s\n", rel, xrad_scene_warning(sc, k));
+    } else {
+        CHECK(!sc, "%s: a scene with an error", rel);
+        CHECK(strstr(err.message, path), "%s: the path is not in: %s", rel, err.message);
+        for (int k = 0; want[k]; k++)
+            CHECK(strstr(err.message, want[k]), "%s: '%s' not in: %s", rel, want[k],
+                  err.message);
+        fprintf(stderr, "  %s: %s\n", rel, err.message);
+    }
+    xrad_scene_destroy(&sc);
+}
+
+/* The broken files of assimp-testmodels (Debian 12: assimp 5.2.5; the
+ * quoted words of "cannot import: ..." are assimp's). */
+static void broken_files(void)
+{
+    /* Six faces from a 0..23 range, one index 255: assimp drops that
+     * triangle and says so; the rest is a sound box missing half a face,
+     * so it loads, with assimp's warning passed on. */
+    broken("IndexOutOfRange/IndexOutOfRange.gltf", XRAD_OK,
+           (const char *const[]){"assimp: ", "out-of-range indices", "dropped", NULL});
+    /* Every index out of range: assimp refuses the mesh it emptied. */
+    broken("IndexOutOfRange/AllIndicesOutOfRange.gltf", XRAD_ERROR_INPUT,
+           (const char *const[]){"cannot import", "Mesh \"Mesh\" has no faces", NULL});
+    /* Infinite positions pass assimp; xrad refuses them, naming the node
+     * and the mesh (the glTF primitive) and the vertex. */
+    broken("BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", XRAD_ERROR_INPUT,
+           (const char *const[]){"node 'nodes_1'", "mesh 'Mesh'", "vertex 0", "not finite",
+                                 NULL});
+    /* The .bin the buffer names is not there. */
+    broken("MissingBin/BoxTextured.gltf", XRAD_ERROR_INPUT,
+           (const char *const[]){"cannot import", "BoxTextured0.bin", NULL});
+    broken("SchemaFailures/sceneWrongType.gltf", XRAD_ERROR_INPUT,
+           (const char *const[]){"cannot import", "\"scene\"", NULL});
+    broken("wrongTypes/badArray.gltf", XRAD_ERROR_INPUT,
+           (const char *const[]){"\"primitives\"", "meshes[0]", NULL});
+    broken("wrongTypes/badString.gltf", XRAD_ERROR_INPUT,
+           (const char *const[]){"\"name\"", "scenes[0]", NULL});
+    broken("RecursiveNodes/RecursiveNodes.gltf", XRAD_ERROR_INPUT,
+           (const char *const[]){"\"nodes\"", "recursive", NULL});
+    broken("TestNoRootNode/NoScene.gltf", XRAD_ERROR_INPUT,
+           (const char *const[]){"No scene", NULL});
+    /* A valid file with nothing in it: nothing to light. */
+    broken("TestNoRootNode/SceneWithoutNodes.gltf", XRAD_ERROR_INPUT,
+           (const char *const[]){"no triangles", NULL});
+    /* Vertex counts not a multiple of 3 (triangles) or 2 (lines): assimp
+     * drops the rest and says so; the line meshes are ignored, the first
+     * named. */
+    broken("IncorrectVertexArrays/Cube.gltf", XRAD_OK,
+           (const char *const[]){"TRIANGLES mode", "dropped", NULL});
+    broken("IncorrectVertexArrays/Cube.gltf", XRAD_OK,
+           (const char *const[]){"4 mesh(es) of points or lines", "node 'Lines'", NULL});
+
+    /* Placed by a scene file: its file, object and surface, then the model
+     * file's node and mesh. */
+    bad("placed infinities", "{\"file\": \"" GLTF2 "BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb\"}",
+        (const char *const[]){"bad.json", "surface 'model'", "BoxWithInfinites.glb",
+                              "node 'nodes_1'", "mesh 'Mesh'", "not finite", NULL});
+}
+
+/* A seed of the import harness (first byte: the format), loaded from
+ * memory as fuzz_import.c does; want as in broken(). */
+static void seed(const char *file, xrad_status status, const char *const *want)
+{
+    char path[1024];
+    snprintf(path, sizeof(path), "tests/fuzz/corpus/import/%s", file);
+    char full[1024];
+    test_source_path(path, full, sizeof(full));
+    FILE *f = fopen(full, "rb");
+    static char buf[1 << 16];
+    size_t n = f ? fread(buf, 1, sizeof(buf), f) : 0;
+    if (f)
+        fclose(f);
+    CHECK(n > 1, "%s: cannot read", full);
+    if (n <= 1)
+        return;
+    const char *name = buf[0] == 'o'   ? "seed.obj"
+                       : buf[0] == 'p' ? "seed.ply"
+                       : buf[0] == 'b' ? "seed.glb"
+                                       : "seed.gltf";
+    xrad_scene *sc = NULL;
+    xrad_error err = {0};
+    xrad_status st = scene_load_model_memory(name, buf + 1, n - 1, &sc, &err);
+    CHECK(st == status, "%s: status %d, want %d: %s", file, st, status, st ? err.message : "");
+    if (st == XRAD_OK) {
+        CHECK(want[0] == NULL || has_warning(sc, want), "%s: no warning with '%s'...", file,
+              want[0]);
+    } else {
+        CHECK(strstr(err.message, name), "%s: '%s' not in: %s", file, name, err.message);
+        for (int k = 0; want[k]; k++)
+            CHECK(strstr(err.message, want[k]), "%s: '%s' not in: %s", file, want[k],
+                  err.message);
+    }
+    xrad_scene_destroy(&sc);
+}
+
+static void seeds(void)
+{
+    seed("obj-quad-lamp-line-point.obj", XRAD_OK,
+         (const char *const[]){"2 mesh(es) of points or lines: ignored", "node 'wire'", NULL});
+    seed("obj-zero-area.obj", XRAD_OK,
+         (const char *const[]){"1 zero-area triangle(s) left out", "mesh 'defaultobject'",
+                               NULL});
+    seed("obj-all-zero-area.obj", XRAD_ERROR_INPUT,
+         (const char *const[]){"all 1 triangle(s) have zero area", NULL});
+    seed("obj-inf.obj", XRAD_ERROR_INPUT,
+         (const char *const[]){"mesh 'defaultobject'", "vertex 2 is not finite", NULL});
+    /* 1e39 overflows a float: infinite too. */
+    seed("obj-overflow.obj", XRAD_ERROR_INPUT,
+         (const char *const[]){"vertex 2 is not finite", NULL});
+    seed("obj-far.obj", XRAD_ERROR_INPUT,
+         (const char *const[]){"vertex 2 lies at", "beyond 1e+09 m", NULL});
+    seed("obj-index-out-of-range.obj", XRAD_ERROR_INPUT,
+         (const char *const[]){"index out of range", NULL});
+    seed("obj-lines-only.obj", XRAD_ERROR_INPUT,
+         (const char *const[]){"no triangles (points or lines only)", NULL});
+    /* In memory, the .mtl is not found: default material, said. */
+    seed("obj-mtl-missing.obj", XRAD_OK, (const char *const[]){"room.mtl", NULL});
+    seed("ply-ascii-quad.ply", XRAD_OK, (const char *const[]){NULL});
+    seed("ply-binary-two-triangles.ply", XRAD_OK, (const char *const[]){NULL});
+    seed("ply-ascii-count-too-large.ply", XRAD_ERROR_INPUT,
+         (const char *const[]){"element 'vertex': 300000", "do not fit", NULL});
+    seed("ply-binary-truncated.ply", XRAD_ERROR_INPUT,
+         (const char *const[]){"PLY header", "need at least 50 bytes", NULL});
+    seed("gltf-triangle.gltf", XRAD_OK, (const char *const[]){NULL});
+    seed("gltf-camera-mirror.gltf", XRAD_OK, (const char *const[]){NULL});
+    /* Two materials of one name: both kept, the second renamed. */
+    seed("gltf-duplicate-material-names.gltf", XRAD_OK, (const char *const[]){NULL});
+    seed("glb-triangle.glb", XRAD_OK, (const char *const[]){NULL});
+    seed("glb-infinite.glb", XRAD_ERROR_INPUT,
+         (const char *const[]){"node 'tri'", "mesh 'Tri'", "vertex 1 is not finite", NULL});
+    seed("gltf-matrix-overflow.gltf", XRAD_ERROR_INPUT,
+         (const char *const[]){"node 'huge'", "transform", "not finite", NULL});
+    /* From memory no other file is opened. */
+    seed("gltf-missing-bin.gltf", XRAD_ERROR_INPUT, (const char *const[]){"missing.bin", NULL});
+    seed("gltf-lines.gltf", XRAD_ERROR_INPUT, (const char *const[]){"no triangles", NULL});
+    seed("gltf-count-too-large.gltf", XRAD_ERROR_INPUT,
+         (const char *const[]){"out of range", NULL});
 }
 
 int main(void)
@@ -159,5 +338,7 @@ int main(void)
     obj_room();
     gltf_box();
     errors();
+    broken_files();
+    seeds();
     return test_finish();
 }
