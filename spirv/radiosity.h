@@ -32,7 +32,8 @@ struct gpu_surface {
      * k of the surface turns its hemicube by patch_rotation(seed,
      * patch_first + k) whoever shoots it, so that removal and insertion
      * see through the same hemicube texels. */
-    uint patches_s, patches_t, patch_first, pad0;
+    uint patches_s, patches_t, patch_first;
+    uint mesh; /* 1: a face of a triangle mesh (scene.h surface.mesh) */
 };
 
 struct gpu_element {

@@ -683,8 +683,10 @@ xrad_status hemicube_check_path(struct xrad_context *ctx, hemicube_path path,
         sh[h].tangent = (vec4){(float)f->x.x, (float)f->x.y, (float)f->x.z, 0};
         sh[h].hemicube = (uint32_t)h;
     }
-    size_t image_bytes = (size_t)CHECK_CUBES * HEMICUBE_FACES * CHECK_RES * CHECK_RES * 4;
-    uint32_t *ids = malloc(image_bytes);
+    /* Two words a texel (HEMICUBE_ID_FORMAT): the ID, then the distance. */
+    size_t texels = (size_t)CHECK_CUBES * HEMICUBE_FACES * CHECK_RES * CHECK_RES;
+    size_t image_bytes = texels * 4;
+    uint32_t *ids = malloc(2 * image_bytes);
     if (!ids)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "hemicube check: out of host memory");
     hemicube_pass *p = NULL;
@@ -709,8 +711,10 @@ xrad_status hemicube_check_path(struct xrad_context *ctx, hemicube_path path,
     hemicube_record(p, c.cmd, &d);
     if ((s = gpu_cmd_run(ctx, &c, err)) ||
         (s = gpu_readback_image(ctx, &p->target, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, ids,
-                                image_bytes, err)))
+                                2 * image_bytes, err)))
         goto done;
+    for (size_t i = 0; i < texels; i++)
+        ids[i] = ids[2 * i];
 
     /* The CPU picture: a ray through each pixel centre from the same
      * offset origin, hits nearer than the near plane (along the face axis,

@@ -14,7 +14,8 @@
  * hemicube.
  *
  * Variants:
- *  - IDs: R32_UINT colour = surface + 1 (0: nothing) + D32 depth, reversed Z
+ *  - IDs: R32G32_UINT colour = surface + 1 (0: nothing) and the distance of
+ *    the point drawn (m, float bits), + D32 depth, reversed Z
  *    (clear 0, GREATER) with an infinite far plane and a near plane at a
  *    small fraction of the scene's diameter.
  *  - radiosity: RGBA16F (or RGBA32F, desc.fp32) colour = B x scale of the visible front side, from
@@ -55,7 +56,7 @@
 
 struct xrad_context;
 
-#define HEMICUBE_ID_FORMAT VK_FORMAT_R32_UINT
+#define HEMICUBE_ID_FORMAT VK_FORMAT_R32G32_UINT
 #define HEMICUBE_DEPTH_FORMAT VK_FORMAT_D32_SFLOAT
 
 /* Near plane and origin offset along the normal, as fractions of the

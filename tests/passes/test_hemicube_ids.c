@@ -187,7 +187,8 @@ static void run_path(xrad_context *ctx, gpu_scene *gs, hemicube_path path, const
         return;
     CHECK(!strcmp(hemicube_path_name(pass), name), "path %s", hemicube_path_name(pass));
     size_t cube_px = (size_t)HEMICUBE_FACES * RES * RES;
-    size_t bytes = MAX_CUBES * cube_px * sizeof(uint32_t);
+    /* Two words a texel (HEMICUBE_ID_FORMAT): the ID, then the distance. */
+    size_t bytes = 2 * MAX_CUBES * cube_px * sizeof(uint32_t);
     uint32_t *gpu = malloc(bytes);
     gpu_buffer indirect = {0};
     gpu_cmd c = {0};
@@ -231,6 +232,8 @@ static void run_path(xrad_context *ctx, gpu_scene *gs, hemicube_path path, const
         CHECK(s == XRAD_OK, "%s: render: %s", name, err.message);
         if (s)
             break;
+        for (size_t i = 0; i < MAX_CUBES * cube_px; i++)
+            gpu[i] = gpu[2 * i];
         for (uint32_t h = 0; h < count; h++) {
             char what[64];
             snprintf(what, sizeof what, "%s %s hemicube %u", name, mode ? "indirect" : "direct", h);
