@@ -427,30 +427,22 @@ void dynamic_patches_pose(const xrad_scene *scene, const dynamic_patches *dp, do
     for (uint32_t p = 0; p < dp->count; p++) {
         const struct cross_patch *q = &dp->patches[p];
         struct gpu_shooter f;
-        if (q->member_count) {
-            /* A group: one hemicube for all three. */
+        /* A group has one frame for all three hemicubes. */
+        if (q->member_count)
             group_frame(scene, dp, q, p, seed, t, &f, quads ? &quads[p] : NULL);
-            if (front)
-                front[p] = f;
-            if (back) {
-                back[p] = f;
-                back[p].normal = (vec4){-f.normal.x, -f.normal.y, -f.normal.z, 0};
-            }
-            if (gather) {
-                gather[p] = f;
-                gather[p].pos_area.w = 0;
-            }
-            continue;
-        }
-        fixed_patch_frame(scene, q->surface, q->i0, q->i1, q->j0, q->j1, p, seed, t, &f,
-                          quads ? &quads[p] : NULL);
+        else
+            fixed_patch_frame(scene, q->surface, q->i0, q->i1, q->j0, q->j1, p, seed, t, &f,
+                              quads ? &quads[p] : NULL);
         if (front)
             front[p] = f;
         if (back) {
             back[p] = f;
             back[p].normal = (vec4){-f.normal.x, -f.normal.y, -f.normal.z, 0};
         }
-        if (gather) {
+        if (gather && q->member_count) {
+            gather[p] = f;
+            gather[p].pos_area.w = 0;
+        } else if (gather) {
             vec3 c[4];
             double g0, g1, h0, h1;
             scene_surface_world(scene, q->surface, t, c, NULL);
