@@ -357,11 +357,13 @@ static xrad_status check_desc(const xrad_scene *scene, const xrad_reference_desc
     if (d->rays > MAX_RAYS)
         return xrad_fail(err, XRAD_ERROR_INPUT, "reference: %u rays per pair (at most %u)", d->rays,
                          MAX_RAYS);
-    if (d->visibility > XRAD_VISIBILITY_RAYS)
-        return xrad_fail(err, XRAD_ERROR_INPUT, "reference: visibility %d is none of auto, clip, rays",
+    if ((unsigned)d->visibility > XRAD_VISIBILITY_RAYS)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "reference: visibility %d is none of auto, clip, rays",
                          (int)d->visibility);
     bool rays = d->visibility == XRAD_VISIBILITY_RAYS ||
-                (d->visibility == XRAD_VISIBILITY_AUTO && scene->surface_count > XRAD_REFERENCE_CLIP_SURFACES);
+                (d->visibility == XRAD_VISIBILITY_AUTO &&
+                 scene->surface_count > XRAD_REFERENCE_CLIP_SURFACES);
     d->visibility = rays ? XRAD_VISIBILITY_RAYS : XRAD_VISIBILITY_CLIP;
     d->rays = d->rays ? d->rays : rays ? DEFAULT_RAYS_EVERY_PAIR : DEFAULT_RAYS;
     d->residual = d->residual > 0 ? d->residual : DEFAULT_RESIDUAL;
