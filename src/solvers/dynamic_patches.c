@@ -154,14 +154,20 @@ static xrad_status build_groups(const xrad_scene *scene, uint32_t max_patches,
                          scene->path);
     }
     out->surface_patch = sp;
-    uint32_t k = 0;
+    uint32_t k = 0, size_object = UINT32_MAX;
+    double size = 1;
     for (uint32_t s = 0; s < ns; s++) {
         if (!grouped[s])
             continue;
         const surface *sf = &scene->surfaces[s];
-        const object *ob = &scene->objects[sf->object];
-        double size = ob->cross_density > 0 ? 1.0 / ob->cross_density
-                                            : object_diagonal(scene, ob) / max_patches;
+        /* Once per object: its surfaces are contiguous, and the diagonal
+         * is a loop over all of them. */
+        if (sf->object != size_object) {
+            const object *ob = &scene->objects[sf->object];
+            size_object = sf->object;
+            size = ob->cross_density > 0 ? 1.0 / ob->cross_density
+                                         : object_diagonal(scene, ob) / max_patches;
+        }
         vec3 c = v3_scale(v3_add(v3_add(sf->p[0], sf->p[1]), v3_add(sf->p[2], sf->p[3])), 0.25);
         keys[k] = (face_key){.object = sf->object, .bin = normal_bin(sf->normal), .surface = s};
         double cc[3] = {c.x, c.y, c.z};
