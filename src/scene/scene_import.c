@@ -20,6 +20,7 @@
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <cjson/cJSON.h>
 
 #include "core/error.h"
 #include "scene/scene.h"
@@ -706,7 +707,7 @@ static uint32_t ply_type_size(const char *t)
 static xrad_status ply_check(const char *path, const char *head, size_t head_len, uint64_t size,
                              xrad_error *err)
 {
-    if (head_len < 4 || memcmp(head, "ply", 3))
+    if (head_len < 4 || strncasecmp(head, "ply", 3)) /* assimp's magic test ignores case */
         return XRAD_OK;
     bool binary = false, ended = false;
     char ename[64] = "";
@@ -770,10 +771,89 @@ static xrad_status ply_check(const char *path, const char *head, size_t head_len
     return XRAD_OK;
 }
 
-static bool is_ply(const char *path)
+/* --------------------------------------------------------------- glTF check */
+
+static bool has_ext(const char *path, const char *ext)
 {
     const char *dot = strrchr(path, '.');
-    return dot && !strcasecmp(dot, ".ply");
+    return dot && !strcasecmp(dot, ext);
+}
+
+static uint32_t le32(const char *p)
+{
+    const unsigned char *u = (const unsigned char *)p;
+    return (uint32_t)u[0] | (uint32_t)u[1] << 8 | (uint32_t)u[2] << 16 | (uint32_t)u[3] << 24;
+}
+
+/* Bytes of a .glb that gltf_check reads: the 12-byte header, the first
+ * chunk's 8-byte header and that chunk (the JSON). */
+static uint64_t glb_json_end(const char *head, size_t head_len)
+{
+    return head_len < 20 ? 20 : 20 + (uint64_t)le32(head + 12);
+}
+
+/* assimp picks the importer by the extension, but when the importers of
+ * that extension decline the content (glTF 1 and 2 both claim .gltf and
+ * .glb, and both look at the header and parse the JSON first), it offers
+ * the file to each of its 40 importers in turn: an STL named .glb loads,
+ * and a PLY named .glb reaches assimp's PLY reader without ply_check and
+ * hangs it (regressions/import/glb-holding-ply-hangs-assimp). So a glTF
+ * is checked here the way glTF 2.0's importer checks it before it takes
+ * the file (glTF 2.0 spec 4.4, GLB: magic "glTF", version 2, a first
+ * chunk of type JSON; then a JSON object whose "asset" names version 2.x);
+ * a file that passes is the glTF 2 importer's, and its errors are its
+ * own. OBJ and PLY have one importer each, which never hands a file on.
+ * `data` holds the JSON (.gltf) or at least glb_json_end() bytes (.glb). */
+static xrad_status gltf_check(const char *path, const char *data, size_t len, uint64_t size,
+                              xrad_error *err)
+{
+    const char *json = data;
+    size_t json_len = len;
+    if (has_ext(path, ".glb")) {
+        if (len < 20 || memcmp(data, "glTF", 4))
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "%s: not a binary glTF: it does not begin with \"glTF\"", path);
+        if (le32(data + 4) != 2)
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "%s: binary glTF version %u; xrad reads glTF 2.0", path,
+                             le32(data + 4));
+        if (memcmp(data + 16, "JSON", 4) || glb_json_end(data, len) > size ||
+            glb_json_end(data, len) > len)
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "%s: binary glTF: the first chunk is not a JSON chunk that fits "
+                             "in the file", path);
+        json = data + 20;
+        json_len = le32(data + 12);
+    } else if (!has_ext(path, ".gltf")) {
+        return XRAD_OK;
+    }
+    cJSON *root = cJSON_ParseWithLength(json, json_len);
+    const cJSON *asset = cJSON_GetObjectItemCaseSensitive(root, "asset");
+    const cJSON *version = cJSON_GetObjectItemCaseSensitive(asset, "version");
+    xrad_status st = XRAD_OK;
+    if (!cJSON_IsObject(root))
+        st = xrad_fail(err, XRAD_ERROR_INPUT, "%s: glTF: the JSON%s is not a JSON object",
+                       path, json == data ? "" : " chunk");
+    else if (!cJSON_IsObject(asset) || !cJSON_IsString(version))
+        st = xrad_fail(err, XRAD_ERROR_INPUT, "%s: glTF: no \"asset\" object with a "
+                       "\"version\" string", path);
+    else if (version->valuestring[0] != '2' || version->valuestring[1] != '.')
+        st = xrad_fail(err, XRAD_ERROR_INPUT, "%s: glTF: asset.version is \"%.16s\"; xrad "
+                       "reads glTF 2.0", path, version->valuestring);
+    cJSON_Delete(root);
+    return st;
+}
+
+/* What is checked before assimp sees the file; `data` is its first len
+ * bytes, as much as content_bytes() asks for. */
+static xrad_status content_check(const char *path, const char *data, size_t len, uint64_t size,
+                                 xrad_error *err)
+{
+    if (has_ext(path, ".gltf") || has_ext(path, ".glb"))
+        return gltf_check(path, data, len, size, err);
+    if (has_ext(path, ".ply"))
+        return ply_check(path, data, len < PLY_HEADER_MAX ? len : PLY_HEADER_MAX, size, err);
+    return XRAD_OK;
 }
 
 /* ------------------------------------------------------------------ import */
@@ -875,19 +955,37 @@ xrad_status scene_import_model(xrad_scene_builder *b, const char *path,
     FILE *f = fopen(path, "rb");
     if (!f)
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: cannot open", path);
+    /* A .gltf is read whole (it is JSON), a .glb to the end of its JSON
+     * chunk, a PLY to PLY_HEADER_MAX (its header), an OBJ not at all. */
     xrad_status st = XRAD_OK;
-    if (is_ply(path)) {
-        char *head = malloc(PLY_HEADER_MAX);
-        long size = -1;
-        size_t n = 0;
-        if (head && !fseek(f, 0, SEEK_END) && (size = ftell(f)) >= 0 && !fseek(f, 0, SEEK_SET))
-            n = fread(head, 1, PLY_HEADER_MAX, f);
-        if (!head || size < 0 || ferror(f))
+    long size = -1;
+    if (fseek(f, 0, SEEK_END) || (size = ftell(f)) < 0 || fseek(f, 0, SEEK_SET))
+        st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: cannot read", path);
+    uint64_t want = has_ext(path, ".gltf") ? (uint64_t)size
+                    : has_ext(path, ".glb") ? 20
+                    : has_ext(path, ".ply") ? PLY_HEADER_MAX : 0;
+    char *head = NULL;
+    size_t n = 0;
+    for (int pass = 0; !st && pass < 2; pass++) {
+        if (want > (uint64_t)size)
+            want = (uint64_t)size;
+        char *grown = realloc(head, want + 1);
+        if (!grown) {
+            st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory reading %llu bytes",
+                           path, (unsigned long long)want);
+            break;
+        }
+        head = grown;
+        n += fread(head + n, 1, want - n, f);
+        if (ferror(f))
             st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: cannot read", path);
-        else
-            st = ply_check(path, head, n, (uint64_t)size, err);
-        free(head);
+        if (!has_ext(path, ".glb") || glb_json_end(head, n) <= n)
+            break;
+        want = glb_json_end(head, n);
     }
+    if (!st)
+        st = content_check(path, head, n, (uint64_t)size, err);
+    free(head);
     fclose(f);
     if (!st)
         st = import_scene(b, path, NULL, desc, err);
@@ -904,12 +1002,9 @@ xrad_status scene_import_memory(xrad_scene_builder *b, const char *name, const v
     if (size > UINT32_MAX / 2)
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: larger than %u bytes", name,
                          UINT32_MAX / 2);
-    if (is_ply(name)) {
-        xrad_status st = ply_check(name, data, size < PLY_HEADER_MAX ? size : PLY_HEADER_MAX,
-                                   size, err);
-        if (st)
-            return st;
-    }
+    xrad_status st = content_check(name, data, size, size, err);
+    if (st)
+        return st;
     memory_file file = {.name = name, .data = data, .size = size};
     struct aiFileIO io = {.OpenProc = memory_open,
                           .CloseProc = memory_close,

@@ -253,12 +253,34 @@ static void broken_files(void)
                               "node 'nodes_1'", "mesh 'Mesh'", "not finite", NULL});
 }
 
-/* A seed of the import harness (first byte: the format), loaded from
- * memory as fuzz_import.c does; want as in broken(). */
-static void seed(const char *file, xrad_status status, const char *const *want)
+/* `data` loaded from memory as model file `name`; want as in broken(). */
+static void in_memory(const char *label, const char *name, const char *data, size_t n,
+                      xrad_status status, const char *const *want)
+{
+    xrad_scene *sc = NULL;
+    xrad_error err = {0};
+    xrad_status st = scene_load_model_memory(name, data, n, &sc, &err);
+    CHECK(st == status, "%s: status %d, want %d: %s", label, st, status, st ? err.message : "");
+    if (st == XRAD_OK) {
+        CHECK(want[0] == NULL || has_warning(sc, want), "%s: no warning with '%s'...", label,
+              want[0]);
+    } else {
+        CHECK(!sc, "%s: a scene with an error", label);
+        CHECK(strstr(err.message, name), "%s: '%s' not in: %s", label, name, err.message);
+        for (int k = 0; want[k]; k++)
+            CHECK(strstr(err.message, want[k]), "%s: '%s' not in: %s", label, want[k],
+                  err.message);
+    }
+    xrad_scene_destroy(&sc);
+}
+
+/* A fuzz input (first byte: the format), loaded from memory as
+ * fuzz_import.c does; want as in broken(). */
+static void fuzz_input(const char *dir, const char *file, xrad_status status,
+                       const char *const *want)
 {
     char path[1024];
-    snprintf(path, sizeof(path), "tests/fuzz/corpus/import/%s", file);
+    snprintf(path, sizeof(path), "tests/fuzz/%s/import/%s", dir, file);
     char full[1024];
     test_source_path(path, full, sizeof(full));
     FILE *f = fopen(full, "rb");
@@ -269,24 +291,59 @@ static void seed(const char *file, xrad_status status, const char *const *want)
     CHECK(n > 1, "%s: cannot read", full);
     if (n <= 1)
         return;
-    const char *name = buf[0] == 'o'   ? "seed.obj"
-                       : buf[0] == 'p' ? "seed.ply"
-                       : buf[0] == 'b' ? "seed.glb"
-                                       : "seed.gltf";
-    xrad_scene *sc = NULL;
-    xrad_error err = {0};
-    xrad_status st = scene_load_model_memory(name, buf + 1, n - 1, &sc, &err);
-    CHECK(st == status, "%s: status %d, want %d: %s", file, st, status, st ? err.message : "");
-    if (st == XRAD_OK) {
-        CHECK(want[0] == NULL || has_warning(sc, want), "%s: no warning with '%s'...", file,
-              want[0]);
-    } else {
-        CHECK(strstr(err.message, name), "%s: '%s' not in: %s", file, name, err.message);
-        for (int k = 0; want[k]; k++)
-            CHECK(strstr(err.message, want[k]), "%s: '%s' not in: %s", file, want[k],
-                  err.message);
-    }
-    xrad_scene_destroy(&sc);
+    static const char *const names[] = {"seed.obj", "seed.ply", "seed.glb", "seed.gltf"};
+    const char *name = buf[0] == 'o'   ? names[0]
+                       : buf[0] == 'p' ? names[1]
+                       : buf[0] == 'b' ? names[2]
+                       : buf[0] == 'g' ? names[3]
+                                       : names[(unsigned char)buf[0] % 4];
+    in_memory(file, name, buf + 1, n - 1, status, want);
+}
+
+static void seed(const char *file, xrad_status status, const char *const *want)
+{
+    fuzz_input("corpus", file, status, want);
+}
+
+/* assimp offers a file its glTF importers decline to all of its other
+ * importers: what is not glTF 2.0 never reaches assimp as a .glb/.gltf. */
+static void wrong_content(void)
+{
+    /* The fuzzer's hang: a PLY with a broken header, named .glb. */
+    fuzz_input("regressions", "glb-holding-ply-hangs-assimp", XRAD_ERROR_INPUT,
+               (const char *const[]){"not a binary glTF", NULL});
+    /* An STL assimp reads, named .glb and .gltf: refused, not loaded. */
+    FILE *f = fopen("/usr/share/assimp/models/STL/triangle_with_two_solids.stl", "rb");
+    static char stl[1 << 16];
+    size_t n = f ? fread(stl, 1, sizeof(stl), f) : 0;
+    if (f)
+        fclose(f);
+    CHECK(n > 0, "assimp-testmodels' STL/triangle_with_two_solids.stl: cannot read");
+    in_memory("stl as glb", "stl.glb", stl, n, XRAD_ERROR_INPUT,
+              (const char *const[]){"does not begin with \"glTF\"", NULL});
+    in_memory("stl as gltf", "stl.gltf", stl, n, XRAD_ERROR_INPUT,
+              (const char *const[]){"not a JSON object", NULL});
+    /* GLB headers: version 1, a first chunk not JSON, a chunk past the end. */
+    static const char v1[] = "glTF\1\0\0\0\40\0\0\0\4\0\0\0JSON{}  ";
+    in_memory("glb version 1", "v1.glb", v1, sizeof(v1) - 1, XRAD_ERROR_INPUT,
+              (const char *const[]){"version 1", "glTF 2.0", NULL});
+    static const char bin[] = "glTF\2\0\0\0\40\0\0\0\4\0\0\0BIN\0{}  ";
+    in_memory("glb bin first", "bin.glb", bin, sizeof(bin) - 1, XRAD_ERROR_INPUT,
+              (const char *const[]){"not a JSON chunk", NULL});
+    static const char past[] = "glTF\2\0\0\0\40\0\0\0\377\0\0\0JSON{}  ";
+    in_memory("glb chunk past the end", "past.glb", past, sizeof(past) - 1, XRAD_ERROR_INPUT,
+              (const char *const[]){"fits in the file", NULL});
+    static const char noasset[] = "{\"scenes\": []}";
+    in_memory("gltf without asset", "a.gltf", noasset, sizeof(noasset) - 1, XRAD_ERROR_INPUT,
+              (const char *const[]){"\"asset\"", NULL});
+    /* assimp's PLY magic ignores case: the header check must too (this
+     * header has no end_header, which hangs assimp's reader). */
+    static const char upper[] = "PLY\nformat ascii 1.0\nelement vertex 1\nproperty float x\n";
+    in_memory("PLY in capitals", "upper.ply", upper, sizeof(upper) - 1, XRAD_ERROR_INPUT,
+              (const char *const[]){"no end_header", NULL});
+    /* glTF 1.0 (assimp has a reader for it): refused, saying why. */
+    broken("../glTF/BoxTextured-glTF/BoxTextured.gltf", XRAD_ERROR_INPUT,
+           (const char *const[]){"asset.version is \"1.0\"", "glTF 2.0", NULL});
 }
 
 static void seeds(void)
@@ -340,5 +397,6 @@ int main(void)
     errors();
     broken_files();
     seeds();
+    wrong_content();
     return test_finish();
 }
