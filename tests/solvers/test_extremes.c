@@ -786,8 +786,10 @@ int main(int argc, char **argv)
         test_many_frames(ctx, !strcmp(argv[2], "cross") ? XRAD_METHOD_CROSS
                                                         : XRAD_METHOD_INCREMENTAL);
     } else {
-        /* --only NAME runs one part (while working on it). */
+        /* --only NAME runs one part, --except NAME all others (meson.build
+         * runs the furnace as a test of its own). */
         const char *only = argc > 2 && !strcmp(argv[1], "--only") ? argv[2] : NULL;
+        const char *except = argc > 2 && !strcmp(argv[1], "--except") ? argv[2] : NULL;
         static const struct {
             const char *name;
             void (*run)(xrad_context *);
@@ -795,7 +797,8 @@ int main(int argc, char **argv)
                      {"emission", test_emission_range}, {"scale", test_scale},
                      {"geometry", test_geometry},   {"wall", test_through_wall}};
         for (size_t k = 0; k < sizeof(parts) / sizeof(parts[0]); k++)
-            if (!only || !strcmp(only, parts[k].name))
+            if ((!only || !strcmp(only, parts[k].name)) &&
+                (!except || strcmp(except, parts[k].name)))
                 parts[k].run(ctx);
     }
     gpu_test_end(&ctx);
