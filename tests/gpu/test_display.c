@@ -12,7 +12,9 @@
  *  (e) a closed room shows a surface in every pixel: no background through
  *      cracks where walls meet, also where a wall was planarised (its file
  *      vertices not coplanar: the Cornell box's red wall, and a room written
- *      here with two warped walls seen from inside);
+ *      here with two warped walls seen from inside), and with a triangle
+ *      mesh in it; with a constant atlas every pixel is that constant
+ *      within 1e-3 (no seam between surfaces or mesh faces);
  *  and every test ends with zero validation messages (gpu_test.h).
  */
 #include <math.h>
@@ -486,7 +488,8 @@ static void project(const pinhole *c, const double x[3], double *px, double *py)
  * order) only pixels whose centre is inside its projection by more than
  * 1.5 pixels, where the room must be seen; without it, every pixel (a
  * camera inside a closed room). Returns the count, *checked the pixels
- * looked at. */
+ * looked at; checks that every covered pixel shows the constant within
+ * 1e-3. */
 static uint32_t count_holes(xrad_context *ctx, const xrad_scene *scene, uint32_t w, uint32_t h,
                             const double (*opening)[3], uint32_t *checked, const char *what)
 {
@@ -507,7 +510,7 @@ static uint32_t count_holes(xrad_context *ctx, const xrad_scene *scene, uint32_t
     double corner[4][2];
     for (int k = 0; opening && k < 4; k++)
         project(&cam, opening[k], &corner[k][0], &corner[k][1]);
-    uint32_t holes = 0;
+    uint32_t holes = 0, off = 0;
     for (uint32_t py = 0; py < h; py++) {
         for (uint32_t px = 0; px < w; px++) {
             if (opening) {
@@ -525,11 +528,24 @@ static uint32_t count_holes(xrad_context *ctx, const xrad_scene *scene, uint32_t
                     continue;
             }
             (*checked)++;
-            holes += img[4 * ((size_t)py * w + px) + 3] != 1.0f;
+            const float *p = &img[4 * ((size_t)py * w + px)];
+            holes += p[3] != 1.0f;
+            /* Where a surface is, the constant: no seam between surfaces
+             * or mesh faces, no unfilled texel blended in. */
+            for (int k = 0; p[3] == 1.0f && k < 3; k++)
+                if (!(fabs(p[k] - constant_rgb[k]) <= 1e-3 * constant_rgb[k])) {
+                    if (off++ == 0)
+                        fprintf(stderr, "%s: pixel (%u, %u) channel %d is %.6g, want %.6g\n",
+                                what, px, py, k, p[k], constant_rgb[k]);
+                    break;
+                }
         }
     }
     free(img);
-    fprintf(stderr, "%s: %u of %u pixels uncovered\n", what, holes, *checked);
+    fprintf(stderr, "%s: %u of %u pixels uncovered, %u off the constant\n", what, holes,
+            *checked, off);
+    CHECK(off == 0, "%s: %u of %u pixels differ from the constant by more than 1e-3", what,
+          off, *checked);
     return holes;
 }
 
@@ -615,6 +631,36 @@ static void test_closed_rooms(xrad_context *ctx)
         snprintf(what, sizeof what, "warped room, view %d", v);
         uint32_t checked = 0;
         uint32_t holes = count_holes(ctx, scene, 160, 120, NULL, &checked, what);
+        CHECK(holes == 0, "%s: %u of %u pixels show no surface", what, holes, checked);
+    }
+    xrad_scene_destroy(&scene);
+
+    /* A triangle mesh (a 320-face geodesic ball, one atlas tile per face)
+     * in a closed room, from the scene's camera and from close by, where a
+     * face spans tens of pixels: every pixel a surface, every surface the
+     * constant (issue 15: no seam between faces, no gap). */
+    char path[1024];
+    xrad_error err = {0};
+    CHECK(xrad_scene_load(test_source_path("tests/data/ball-room-320.json", path, sizeof path),
+                          &scene, &err) == XRAD_OK,
+          "ball-room-320: %s", err.message);
+    if (!scene)
+        return;
+    uint32_t mesh_faces = 0;
+    for (uint32_t s = 0; s < scene->surface_count; s++)
+        mesh_faces += scene->surfaces[s].triangle;
+    CHECK(mesh_faces == 320, "ball-room-320 has %u triangles, want 320", mesh_faces);
+    static const double ball_views[2][2][3] = {
+        {{1.5, 1.2, 3.6}, {1.5, 0.8, 0}},     /* the scene's camera */
+        {{1.5, 0.75, 2.45}, {1.5, 0.6, 1.8}}, /* 0.35 m from the ball's surface */
+    };
+    for (int v = 0; v < 2; v++) {
+        scene->cam.position = v3(ball_views[v][0][0], ball_views[v][0][1], ball_views[v][0][2]);
+        scene->cam.look_at = v3(ball_views[v][1][0], ball_views[v][1][1], ball_views[v][1][2]);
+        char what[64];
+        snprintf(what, sizeof what, "mesh ball in a room, view %d", v);
+        uint32_t checked = 0;
+        uint32_t holes = count_holes(ctx, scene, 200, 150, NULL, &checked, what);
         CHECK(holes == 0, "%s: %u of %u pixels show no surface", what, holes, checked);
     }
     xrad_scene_destroy(&scene);
