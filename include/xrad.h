@@ -274,8 +274,30 @@ typedef enum xrad_visibility {
     XRAD_VISIBILITY_RAYS,
 } xrad_visibility;
 
+/* How the reference solves B = E + rho F B. */
+typedef enum xrad_reference_solver {
+    /* DENSE where its matrix fits in 2 GiB (about 23,000 elements), else
+     * GATHER. */
+    XRAD_REFERENCE_SOLVER_AUTO = 0,
+    /* Every form factor in a dense matrix (visibility as asked), then
+     * Gauss-Seidel: exact up to the visibility's estimate, O(elements^2). */
+    XRAD_REFERENCE_SOLVER_DENSE,
+    /* No matrix, for meshes of 100K triangles and more: light from the
+     * emitting surfaces by form factor and `rays` visibility rays per
+     * (element, emitting surface); light from everything else by
+     * `gather_rays` cosine-distributed rays per element traced through
+     * Embree to the element they hit, then Gauss-Seidel over those hits.
+     * Visibility is always by rays. Unbiased; each element's indirect
+     * light carries Monte Carlo noise of about 1 / sqrt(gather_rays) of
+     * its spread. */
+    XRAD_REFERENCE_SOLVER_GATHER,
+} xrad_reference_solver;
+
 typedef struct xrad_reference_desc {
     double time;            /* s, scene time at which dynamic objects are posed; default 0 */
+    xrad_reference_solver solver; /* default AUTO */
+    uint32_t gather_rays;   /* GATHER: rays per element for light from non-emitters;
+                               default 256 */
     xrad_visibility visibility; /* default AUTO */
     uint32_t rays;          /* clipping: rays per element pair where clipping gives up (a
                                shadow of too many pieces, a nearly edge-on occluder), rare;
@@ -296,6 +318,8 @@ typedef struct xrad_reference_stats {
     double max_row_sum;         /* largest sum_j F_ij, a closure check */
     xrad_visibility visibility; /* the one used: CLIP or RAYS */
     uint32_t rays;              /* rays per pair (RAYS), or where clipping gave up (CLIP) */
+    xrad_reference_solver solver; /* the one used: DENSE or GATHER */
+    uint32_t gather_rays;       /* GATHER: rays per element */
 } xrad_reference_stats;
 
 /* Solves B = E + rho F B for all elements; writes B into `atlas` (created

@@ -38,6 +38,11 @@ static void help(void)
            "                    to 256 surfaces) [auto]\n"
            "  --rays N          reference: rays per element pair where clipping gives up\n"
            "                    [16]; with rays visibility, per pair [64]\n"
+           "  --reference-solver S  reference: dense (every form factor in a matrix), gather\n"
+           "                    (no matrix: lights by form factor and rays, the rest by\n"
+           "                    --gather-rays Monte Carlo rays per element; meshes of 100K\n"
+           "                    triangles), auto (dense up to about 23,000 elements) [auto]\n"
+           "  --gather-rays N   reference, gather: rays per element [256]\n"
            "  --residual R      reference: Gauss-Seidel stop, max|dB|/max B per sweep [1e-6]\n"
            "  --threads N       reference: worker threads [online cores]\n"
            "  --device NAME     Vulkan device (substring; see xrad devices)\n"
@@ -116,6 +121,10 @@ static int parse(int argc, char **argv, render_opts *o)
             cli_uint(&a, 1, 4096, &o->m.reference.rays);
         } else if (!strcmp(opt, "visibility")) {
             method_visibility_option(&a, &o->m.reference.visibility);
+        } else if (!strcmp(opt, "reference-solver")) {
+            method_reference_solver_option(&a, &o->m.reference.solver);
+        } else if (!strcmp(opt, "gather-rays")) {
+            cli_uint(&a, 1, 65536, &o->m.reference.gather_rays);
         } else if (!strcmp(opt, "residual")) {
             cli_double(&a, 1e-15, 1, &o->m.reference.residual);
         } else if (!strcmp(opt, "threads")) {
@@ -257,6 +266,11 @@ int cmd_render(int argc, char **argv)
     }
     if (res.gpu)
         method_print_passes(&res);
+    else if (res.ref.solver == XRAD_REFERENCE_SOLVER_GATHER)
+        printf("reference: gather (%u rays an element, lights by %u rays), rays %.3f s, "
+               "Gauss-Seidel %.3f s, %u sweeps, residual %.2g\n",
+               res.ref.gather_rays, res.ref.rays, res.ref.form_factor_seconds,
+               res.ref.solve_seconds, res.ref.sweeps, res.ref.residual);
     else
         printf("reference: visibility %s (%u rays%s), form factors %.3f s, Gauss-Seidel %.3f s, "
                "%u sweeps, residual %.2g\n",

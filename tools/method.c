@@ -9,26 +9,58 @@
  * public API does not give (xrad view reads the built scene the same way). */
 #include "scene/scene.h"
 
-bool method_visibility_option(cli_args *a, xrad_visibility *out)
+/* The option's value as an index into names[0..count-1]; a usage error
+ * listing them when it is none. */
+static bool pick_name(cli_args *a, const char *const *names, int count, int *out)
 {
     const char *v = cli_value(a);
     if (!v)
         return false;
-    static const char *const names[] = {"auto", "clip", "rays"};
-    for (int k = 0; k < 3; k++) {
+    for (int k = 0; k < count; k++) {
         if (!strcmp(v, names[k])) {
-            *out = (xrad_visibility)k;
+            *out = k;
             return true;
         }
     }
-    cli_usage_error(a->command, "--%s: '%s' is none of auto, clip, rays", a->opt, v);
+    char list[96] = "";
+    for (int k = 0; k < count; k++)
+        snprintf(list + strlen(list), sizeof(list) - strlen(list), "%s%s", k ? ", " : "",
+                 names[k]);
+    cli_usage_error(a->command, "--%s: '%s' is none of %s", a->opt, v, list);
     a->failed = true;
     return false;
+}
+
+bool method_visibility_option(cli_args *a, xrad_visibility *out)
+{
+    static const char *const names[] = {"auto", "clip", "rays"};
+    int k;
+    if (!pick_name(a, names, 3, &k))
+        return false;
+    *out = (xrad_visibility)k;
+    return true;
 }
 
 const char *method_visibility_name(xrad_visibility v)
 {
     return v == XRAD_VISIBILITY_CLIP ? "clip" : v == XRAD_VISIBILITY_RAYS ? "rays" : "auto";
+}
+
+bool method_reference_solver_option(cli_args *a, xrad_reference_solver *out)
+{
+    static const char *const names[] = {"auto", "dense", "gather"};
+    int k;
+    if (!pick_name(a, names, 3, &k))
+        return false;
+    *out = (xrad_reference_solver)k;
+    return true;
+}
+
+const char *method_reference_solver_name(xrad_reference_solver s)
+{
+    return s == XRAD_REFERENCE_SOLVER_DENSE    ? "dense"
+           : s == XRAD_REFERENCE_SOLVER_GATHER ? "gather"
+                                               : "auto";
 }
 
 const char *method_list(void) { return "reference, gather, progressive, incremental, cross"; }

@@ -51,6 +51,11 @@ typedef struct method_result {
 bool method_visibility_option(cli_args *a, xrad_visibility *out);
 /* "clip" or "rays" (the resolved modes), "auto". */
 const char *method_visibility_name(xrad_visibility v);
+/* --reference-solver's value (auto, dense, gather) into *out; a usage
+ * error otherwise. */
+bool method_reference_solver_option(cli_args *a, xrad_reference_solver *out);
+/* "dense" or "gather" (the resolved solvers), "auto". */
+const char *method_reference_solver_name(xrad_reference_solver s);
 
 /* "reference, gather, progressive, incremental, cross" */
 const char *method_list(void);

@@ -173,3 +173,31 @@ void ref_rays_occluded(const ref_rays *rays, uint32_t own, uint32_t target, vec3
     for (uint32_t k = 0; k < count; k++)
         blocked[k] = ray[k].tfar == -INFINITY;
 }
+
+void ref_rays_closest(const ref_rays *rays, uint32_t own, vec3 from, const vec3 *dirs,
+                      uint32_t count, uint32_t *hit, double *t)
+{
+    /* The occlusion filter with both ends the ray's own quad. */
+    occlusion_ctx c = {.rays = rays, .own = own, .target = own};
+    rtcInitIntersectContext(&c.rtc);
+    c.rtc.filter = filter;
+    struct RTCRayHit rh[REF_RAYS_BATCH];
+    count = count < REF_RAYS_BATCH ? count : REF_RAYS_BATCH;
+    for (uint32_t k = 0; k < count; k++) {
+        double len = v3_len(dirs[k]);
+        rh[k] = (struct RTCRayHit){
+            .ray = {.org_x = (float)from.x, .org_y = (float)from.y, .org_z = (float)from.z,
+                    .dir_x = (float)dirs[k].x, .dir_y = (float)dirs[k].y,
+                    .dir_z = (float)dirs[k].z,
+                    .tnear = len > 0 ? (float)(rays->end_tol / len) : 0,
+                    .tfar = len > 0 ? INFINITY : -1, .mask = 0xffffffffu, .flags = 0},
+            .hit = {.geomID = RTC_INVALID_GEOMETRY_ID, .primID = RTC_INVALID_GEOMETRY_ID},
+        };
+    }
+    rtcIntersect1M(rays->scene, &c.rtc, rh, count, sizeof rh[0]);
+    for (uint32_t k = 0; k < count; k++) {
+        bool found = rh[k].hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        hit[k] = found ? rh[k].hit.primID : UINT32_MAX;
+        t[k] = found ? rh[k].ray.tfar : INFINITY;
+    }
+}

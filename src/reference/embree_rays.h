@@ -40,4 +40,11 @@ void ref_rays_destroy(ref_rays **rays);
 void ref_rays_occluded(const ref_rays *rays, uint32_t own, uint32_t target, vec3 from,
                        const vec3 *to, uint32_t count, bool *blocked);
 
+/* The first quad each ray from `from` along dirs[k] (k < count <=
+ * REF_RAYS_BATCH) meets: hit[k], at from + t[k] dirs[k]; UINT32_MAX and
+ * infinity where it meets none. Quad `own` (the ray's source) and the
+ * quads in its plane are passed through, as for segments. Thread-safe. */
+void ref_rays_closest(const ref_rays *rays, uint32_t own, vec3 from, const vec3 *dirs,
+                      uint32_t count, uint32_t *hit, double *t);
+
 #endif

@@ -61,6 +61,21 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
                                 ref_geometry **out, xrad_error *err);
 void ref_geometry_destroy(ref_geometry **geometry);
 
+/* The visible fraction of F(x_i -> polygon) (thesis eq. 2.2.3's HID
+ * term): g->rays rays from the origin of element i to stratified points
+ * of `poly` (world corners, wound like its surface; `poly_normal` its unit
+ * normal) drawn from `seed`, each weighted by the form factor integrand at
+ * its end (cos phi_i cos phi_j / r^2; the 1/pi and the uniform area
+ * element cancel in the ratio), so that the estimate converges to the
+ * exact visible form factor as rays grow; an unweighted fraction of the
+ * area converges to a biased value where the polygon is large next to its
+ * distance to x_i. Blockers: the `count` candidate quads, or with g->bvh
+ * every quad but i's own, `target` (the polygon's surface) and those in
+ * their planes. */
+double ref_visible_fraction(const ref_geometry *g, uint32_t i, uint32_t target,
+                            const vec3 poly[4], vec3 poly_normal, uint64_t seed,
+                            const uint32_t *cand, uint32_t count);
+
 /* Working memory of ref_form_factor_row, one per thread: per surface an
  * occluder candidate, its shadow cone and a candidate of one cell, and the
  * visible pieces of one cell. */
@@ -87,5 +102,15 @@ double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
 #define REF_MATRIX_MAX_BYTES ((uint64_t)2 << 30)
 xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference_desc *desc,
                                    float **F, xrad_reference_stats *stats, xrad_error *err);
+
+/* The Monte Carlo gather solver (XRAD_REFERENCE_SOLVER_GATHER, xrad.h):
+ * B (3 doubles per element) for the resolved desc `d`; fills the stats'
+ * timings, sweeps, residual, gather_rays and max_row_sum (the largest
+ * fraction of an element's gather rays that meet a surface's front). */
+xrad_status ref_gather_solve(const xrad_scene *scene, const xrad_reference_desc *d, double *b,
+                             xrad_reference_stats *stats, xrad_error *err);
+
+/* Monotonic wall clock, s. */
+double ref_seconds(void);
 
 #endif

@@ -4,7 +4,6 @@
 #include "reference/reference.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,16 +12,19 @@
 
 #include "core/error.h"
 #include "reference/ff_kernel.h"
+#include "reference/ref_parallel.h"
 
 #define DEFAULT_RAYS 16
 /* Rays visibility: every pair's visible fraction is this many rays'. */
 #define DEFAULT_RAYS_EVERY_PAIR 64
+/* Gather solver: rays per element for light from non-emitters. */
+#define DEFAULT_GATHER_RAYS 256
 #define DEFAULT_RESIDUAL 1e-6
 #define DEFAULT_MAX_SWEEPS 100000
 #define MAX_RAYS 65536
 #define MAX_THREADS 256
 
-static double now_seconds(void)
+double ref_seconds(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -147,54 +149,53 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
     return XRAD_OK;
 }
 
-/* The fallback where clipping gives up (shadow.h): the visible fraction of
- * F(x_i -> cell_j) estimated by rays from the origin of i to
- * stratified points of cell j, each weighted by the form factor integrand
- * there (thesis eq. 2.2.3: cos phi_i cos phi_j / r^2; the 1/pi and the
- * uniform area element cancel in the ratio). Weighting makes the estimate
- * converge to the exact visible form factor as rays grow; an unweighted
- * fraction of the cell's area converges to a biased value where a cell is
- * large next to its distance to x_i. Only the `count` candidate quads are
- * tested, or with g->bvh every quad through Embree. */
-static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const uint32_t *cand,
-                         uint32_t count)
+double ref_visible_fraction(const ref_geometry *g, uint32_t i, uint32_t target,
+                            const vec3 poly[4], vec3 poly_normal, uint64_t seed,
+                            const uint32_t *cand, uint32_t count)
 {
-    uint64_t seed = ref_pair_seed(i, j);
-    vec3 p = g->recv[i], n = g->normal[i], nj = g->normal[j];
+    vec3 p = g->recv[i], n = g->normal[i];
     double seen = 0, total = 0;
     uint32_t open = 0;
     for (uint32_t k0 = 0; k0 < g->rays; k0 += REF_RAYS_BATCH) {
         uint32_t m = g->rays - k0 < REF_RAYS_BATCH ? g->rays - k0 : REF_RAYS_BATCH;
-        vec3 target[REF_RAYS_BATCH];
+        vec3 to[REF_RAYS_BATCH];
         bool blocked[REF_RAYS_BATCH];
         for (uint32_t k = 0; k < m; k++) {
             double s, t;
             ref_sample(seed, k0 + k, g->rays, &s, &t);
-            target[k] = bilinear(g->cell[j], s, t);
+            to[k] = bilinear(poly, s, t);
         }
         if (g->bvh) {
-            ref_rays_occluded(g->bvh, g->surface_of[i], g->surface_of[j], g->origin[i], target, m,
-                              blocked);
+            ref_rays_occluded(g->bvh, g->surface_of[i], target, g->origin[i], to, m, blocked);
         } else {
             for (uint32_t k = 0; k < m; k++) {
                 blocked[k] = false;
                 for (uint32_t c = 0; c < count && !blocked[k]; c++)
-                    blocked[k] = ref_segment_hits_quad(&g->quads[cand[c]], g->origin[i], target[k]);
+                    blocked[k] = ref_segment_hits_quad(&g->quads[cand[c]], g->origin[i], to[k]);
             }
         }
         for (uint32_t k = 0; k < m; k++) {
-            vec3 r = v3_sub(target[k], p);
+            vec3 r = v3_sub(to[k], p);
             double r2 = v3_dot(r, r);
-            double w =
-                r2 > 0 ? fmax(0.0, v3_dot(n, r)) * fmax(0.0, -v3_dot(nj, r)) / (r2 * r2) : 0;
+            double w = r2 > 0 ? fmax(0.0, v3_dot(n, r)) * fmax(0.0, -v3_dot(poly_normal, r)) /
+                                    (r2 * r2)
+                              : 0;
             total += w;
             seen += blocked[k] ? 0 : w;
             open += !blocked[k];
         }
     }
-    /* No sample where the integrand is positive (a sliver of the cell above
-     * the tangent plane): fall back to the plain fraction. */
+    /* No sample where the integrand is positive (a sliver of the polygon
+     * above the tangent plane): fall back to the plain fraction. */
     return total > 0 ? seen / total : (double)open / g->rays;
+}
+
+/* Where clipping gives up, and every pair with rays visibility. */
+static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const uint32_t *cand,
+                         uint32_t count)
+{
+    return ref_visible_fraction(g, i, g->surface_of[j], g->cell[j], g->normal[j],
+                                ref_pair_seed(i, j), cand, count);
 }
 
 void ref_row_scratch_finish(ref_row_scratch *s)
@@ -289,54 +290,18 @@ double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
     return sum;
 }
 
-/* Rows are handed out one at a time under a lock, so threads balance and
- * every row's value depends on its index only. The calling thread works
- * too and is the one that reports progress. */
 typedef struct build_job {
     const ref_geometry *g;
     float *F;
     double *row_sum;
     ref_row_scratch *scratch; /* per thread */
-    uint32_t next, done;
-    pthread_mutex_t lock;
-    xrad_progress_fn progress;
-    void *progress_user;
-    uint32_t reported; /* percent last reported */
 } build_job;
 
-typedef struct build_worker {
-    build_job *job;
-    uint32_t index;
-    bool reports;
-} build_worker;
-
-static void *build_rows(void *arg)
+static void build_row(void *user, uint32_t thread, uint32_t i)
 {
-    build_worker *w = arg;
-    build_job *job = w->job;
-    const ref_geometry *g = job->g;
-    uint32_t n = g->element_count;
-    ref_row_scratch *scratch = &job->scratch[w->index];
-    for (;;) {
-        pthread_mutex_lock(&job->lock);
-        uint32_t i = job->next < n ? job->next++ : n;
-        uint32_t done = job->done;
-        pthread_mutex_unlock(&job->lock);
-        if (w->reports && job->progress) {
-            uint32_t pct = (uint32_t)((uint64_t)done * 100 / (n ? n : 1));
-            if (pct > job->reported) {
-                job->reported = pct;
-                job->progress(job->progress_user, "form factors", pct / 100.0);
-            }
-        }
-        if (i >= n)
-            break;
-        job->row_sum[i] = ref_form_factor_row(g, i, job->F + (size_t)i * n, scratch);
-        pthread_mutex_lock(&job->lock);
-        job->done++;
-        pthread_mutex_unlock(&job->lock);
-    }
-    return NULL;
+    build_job *job = user;
+    job->row_sum[i] = ref_form_factor_row(job->g, i, job->F + (size_t)i * job->g->element_count,
+                                          &job->scratch[thread]);
 }
 
 static uint32_t default_threads(void)
@@ -361,7 +326,22 @@ static xrad_status check_desc(const xrad_scene *scene, const xrad_reference_desc
         return xrad_fail(err, XRAD_ERROR_INPUT,
                          "reference: visibility %d is none of auto, clip, rays",
                          (int)d->visibility);
+    if ((unsigned)d->solver > XRAD_REFERENCE_SOLVER_GATHER)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "reference: solver %d is none of auto, dense, gather", (int)d->solver);
+    if (d->gather_rays > MAX_RAYS)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "reference: %u gather rays per element (at "
+                         "most %u)", d->gather_rays, MAX_RAYS);
+    uint64_t n = scene->element_count;
+    if (d->solver == XRAD_REFERENCE_SOLVER_AUTO)
+        d->solver = n * n * sizeof(float) > REF_MATRIX_MAX_BYTES ? XRAD_REFERENCE_SOLVER_GATHER
+                                                                 : XRAD_REFERENCE_SOLVER_DENSE;
+    if (d->solver == XRAD_REFERENCE_SOLVER_GATHER && d->visibility == XRAD_VISIBILITY_CLIP)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "reference: the gather solver sees by rays "
+                         "only (visibility clip needs the dense solver)");
+    d->gather_rays = d->gather_rays ? d->gather_rays : DEFAULT_GATHER_RAYS;
     bool rays = d->visibility == XRAD_VISIBILITY_RAYS ||
+                d->solver == XRAD_REFERENCE_SOLVER_GATHER ||
                 (d->visibility == XRAD_VISIBILITY_AUTO &&
                  scene->surface_count > XRAD_REFERENCE_CLIP_SURFACES);
     d->visibility = rays ? XRAD_VISIBILITY_RAYS : XRAD_VISIBILITY_CLIP;
@@ -389,54 +369,34 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
                          "solver holds at most %.0f GiB (lower the element density)",
                          scene->path, (unsigned long long)n, bytes / 1073741824.0,
                          REF_MATRIX_MAX_BYTES / 1073741824.0);
-    double t0 = now_seconds();
+    double t0 = ref_seconds();
     ref_geometry *g = NULL;
     st = ref_geometry_create(scene, d.time, d.rays, d.visibility == XRAD_VISIBILITY_RAYS, &g, err);
     if (st)
         return st;
 
     uint32_t threads = d.threads < n ? d.threads : (uint32_t)(n ? n : 1);
-    build_job job = {.g = g, .progress = d.progress, .progress_user = d.progress_user};
+    build_job job = {.g = g};
     job.F = malloc(bytes ? bytes : 1);
     job.row_sum = malloc((n ? n : 1) * sizeof *job.row_sum);
     job.scratch = calloc(threads, sizeof *job.scratch);
-    build_worker *workers = malloc(threads * sizeof *workers);
-    pthread_t *tids = malloc(threads * sizeof *tids);
     bool scratch_ok = job.scratch != NULL;
     for (uint32_t t = 0; scratch_ok && t < threads; t++)
         scratch_ok = ref_row_scratch_init(&job.scratch[t], g);
-    if (!job.F || !job.row_sum || !scratch_ok || !workers || !tids) {
+    if (!job.F || !job.row_sum || !scratch_ok) {
         st = xrad_fail(err, XRAD_ERROR_SYSTEM,
                        "reference: out of memory for the %llu x %llu form factor matrix (%.1f MiB)",
                        (unsigned long long)n, (unsigned long long)n, bytes / 1048576.0);
         goto done;
     }
-    if (pthread_mutex_init(&job.lock, NULL) != 0) {
-        st = xrad_fail(err, XRAD_ERROR_SYSTEM, "reference: pthread_mutex_init failed");
-        goto done;
-    }
-    /* Fewer threads than asked when creation fails: rows are shared
-     * dynamically, so the result does not change. */
-    uint32_t started = 0;
-    for (uint32_t t = 1; t < threads; t++) {
-        workers[t] = (build_worker){&job, t, false};
-        if (pthread_create(&tids[t], NULL, build_rows, &workers[t]) != 0)
-            break;
-        started = t;
-    }
-    workers[0] = (build_worker){&job, 0, true};
-    build_rows(&workers[0]);
-    for (uint32_t t = 1; t <= started; t++)
-        pthread_join(tids[t], NULL);
-    pthread_mutex_destroy(&job.lock);
-    if (d.progress && job.reported < 100)
-        d.progress(d.progress_user, "form factors", 1.0);
+    ref_parallel_for((uint32_t)n, threads, build_row, &job, d.progress, d.progress_user,
+                     "form factors");
 
     if (stats) {
         stats->max_row_sum = 0;
         for (uint64_t i = 0; i < n; i++)
             stats->max_row_sum = fmax(stats->max_row_sum, job.row_sum[i]);
-        stats->form_factor_seconds = now_seconds() - t0;
+        stats->form_factor_seconds = ref_seconds() - t0;
         stats->visibility = d.visibility;
         stats->rays = d.rays;
     }
@@ -448,8 +408,6 @@ done:
     for (uint32_t t = 0; job.scratch && t < threads; t++)
         ref_row_scratch_finish(&job.scratch[t]);
     free(job.scratch);
-    free(workers);
-    free(tids);
     ref_geometry_destroy(&g);
     return st;
 }
@@ -529,21 +487,27 @@ xrad_status xrad_reference_solve(const xrad_scene *scene, const xrad_reference_d
     xrad_status st = check_desc(scene, desc, &d, err);
     if (st)
         return st;
-    xrad_reference_stats local = {0};
-    float *F = NULL;
-    st = ref_form_factor_matrix(scene, &d, &F, &local, err);
-    if (st)
-        return st;
+    xrad_reference_stats local = {.solver = d.solver};
     uint32_t n = scene->element_count;
     double *b = malloc(3 * (size_t)(n ? n : 1) * sizeof *b);
-    if (!b) {
-        free(F);
+    if (!b)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "reference: out of memory for %u elements", n);
+    if (d.solver == XRAD_REFERENCE_SOLVER_GATHER) {
+        st = ref_gather_solve(scene, &d, b, &local, err);
+    } else {
+        float *F = NULL;
+        st = ref_form_factor_matrix(scene, &d, &F, &local, err);
+        if (!st) {
+            double t0 = ref_seconds();
+            gauss_seidel(scene, F, &d, b, &local);
+            local.solve_seconds = ref_seconds() - t0;
+        }
+        free(F);
     }
-    double t0 = now_seconds();
-    gauss_seidel(scene, F, &d, b, &local);
-    local.solve_seconds = now_seconds() - t0;
-    free(F);
+    if (st) {
+        free(b);
+        return st;
+    }
 
     memset(atlas->rgba, 0, (size_t)atlas->width * atlas->height * 4 * sizeof *atlas->rgba);
     for (uint32_t i = 0; i < n; i++) {
