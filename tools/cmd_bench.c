@@ -26,8 +26,9 @@ static void help(void)
            "frame-time ratios progressive/cross and incremental/cross. The JSON also has\n"
            "every frame's time, the 95th percentile (nearest rank) and each pass's median.\n"
            "Each row's \"reference\" and \"element_reference\" say what it was measured\n"
-           "against: the CPU reference, or above --max-reference-elements a high-quality\n"
-           "gather, for the image and the elements alike.\n\n"
+           "against: the CPU reference (\"cpu-reference\", the dense solver), or above\n"
+           "--max-reference-elements its gather solver (\"cpu-gather\"), for the image and\n"
+           "the elements alike.\n\n"
            "  --methods LIST     comma-separated: %s [gather,progressive]\n"
            "  --json FILE        also write the rows and ratios as JSON\n"
            "  --repeat N         timed frames per scene and method; the median is reported [3]\n"
@@ -37,9 +38,10 @@ static void help(void)
            "                     visibility, per pair [64]\n"
            "  --reference-visibility V  auto, clip or rays (xrad render --help) [auto]\n"
            "  --cache DIR        where references are kept [out/bench-cache]\n"
-           "  --max-reference-elements N  above this element count the reference is a\n"
-           "                     high-quality GPU gather (hemicube 128, 4x MSAA, threshold\n"
-           "                     1e-5) instead of the CPU solver [12000]\n"
+           "  --max-reference-elements N  above this element count the CPU reference\n"
+           "                     gathers by Monte Carlo rays (xrad render --reference-solver\n"
+           "                     gather) instead of building the dense matrix [12000]\n"
+           "  --reference-gather-rays N  rays per element of that gather [256]\n"
            "  --device NAME      Vulkan device\n"
            "  --sweep one|grid   instead: per scene and method, vary the quality settings\n"
            "                     one at a time from the base (and the presets draft,\n"
@@ -193,22 +195,26 @@ xrad_status bench_reference_get(xrad_context *ctx, const char *path, const xrad_
     memset(ref, 0, sizeof(*ref));
     xrad_scene_info info;
     xrad_scene_get_info(scene, &info);
-    bool cpu = info.elements <= o->max_ref_elements;
+    /* Up to --max-reference-elements the dense solver, beyond it the
+     * gather solver (no matrix; Monte Carlo, rays visibility). */
+    bool dense = info.elements <= o->max_ref_elements;
     char settings[256];
     /* The visibility as the solver will resolve it (xrad.h), in the cache
      * key: images of one are not reused for the other. Rays visibility
      * takes the library's rays per pair unless --reference-rays says. */
     xrad_visibility vis = o->ref_visibility;
-    if (vis == XRAD_VISIBILITY_AUTO)
-        vis = info.surfaces > XRAD_REFERENCE_CLIP_SURFACES ? XRAD_VISIBILITY_RAYS
-                                                           : XRAD_VISIBILITY_CLIP;
+    if (vis == XRAD_VISIBILITY_AUTO || !dense)
+        vis = info.surfaces > XRAD_REFERENCE_CLIP_SURFACES || !dense ? XRAD_VISIBILITY_RAYS
+                                                                     : XRAD_VISIBILITY_CLIP;
     uint32_t rays = vis == XRAD_VISIBILITY_RAYS && !o->ref_rays_set ? 64 : o->ref_rays;
-    if (cpu)
+    if (dense)
         snprintf(settings, sizeof(settings), "cpu-reference rays=%u residual=1e-7 visibility=%s",
                  rays, method_visibility_name(vis));
     else
-        snprintf(settings, sizeof(settings), "gather res=128 msaa=4 threshold=1e-5");
-    snprintf(ref->kind, sizeof(ref->kind), "%s", cpu ? "cpu-reference" : "gather-high");
+        snprintf(settings, sizeof(settings), "cpu-gather rays=%u gather_rays=%u residual=1e-7",
+                 rays, o->ref_gather_rays);
+    const char *kind = dense ? "cpu-reference" : "cpu-gather";
+    snprintf(ref->kind, sizeof(ref->kind), "%s", kind);
     uint64_t hash = hash_file(0xcbf29ce484222325ULL, path);
     hash = fnv1a(hash, settings, strlen(settings));
     uint32_t size[2] = {o->width, o->height};
@@ -227,7 +233,7 @@ xrad_status bench_reference_get(xrad_context *ctx, const char *path, const xrad_
         return XRAD_OK;
     }
     bench_reference_free(ref);
-    snprintf(ref->kind, sizeof(ref->kind), "%s", cpu ? "cpu-reference" : "gather-high");
+    snprintf(ref->kind, sizeof(ref->kind), "%s", kind);
     fprintf(stderr, "bench: %s: making the reference (%s, %u elements)\n", path, settings,
             info.elements);
     xrad_status st = xrad_atlas_create(scene, &ref->atlas, err);
@@ -238,13 +244,11 @@ xrad_status bench_reference_get(xrad_context *ctx, const char *path, const xrad_
     m.reference.rays = rays;
     m.reference.visibility = vis;
     m.reference.residual = 1e-7;
-    m.solver.hemicube_res = 128;
-    m.solver.msaa = 4;
-    m.solver.threshold = 1e-5;
-    m.solver.time = t;
+    m.reference.solver = dense ? XRAD_REFERENCE_SOLVER_DENSE : XRAD_REFERENCE_SOLVER_GATHER;
+    m.reference.gather_rays = o->ref_gather_rays;
     m.reference.time = t;
     method_result r;
-    st = method_run(ctx, scene, cpu ? "reference" : "gather", &m, &ref->atlas, &r, err);
+    st = method_run(ctx, scene, "reference", &m, &ref->atlas, &r, err);
     xrad_view_desc view = {.width = o->width, .height = o->height, .time = t};
     if (!st)
         st = xrad_render_view(ctx, scene, &ref->atlas, &view, &ref->image, &ref->width,
@@ -300,6 +304,7 @@ static int parse(int argc, char **argv, bench_opts *o)
     o->repeat = 3;
     o->ref_rays = 32;
     o->max_ref_elements = 12000;
+    o->ref_gather_rays = 256;
     o->fps = 30;
     o->sweep_out = "out/sweep";
     o->metric = "surface_error";
@@ -324,6 +329,8 @@ static int parse(int argc, char **argv, bench_opts *o)
             o->ref_rays_set = cli_uint(&a, 1, 4096, &o->ref_rays);
         } else if (!strcmp(opt, "reference-visibility")) {
             method_visibility_option(&a, &o->ref_visibility);
+        } else if (!strcmp(opt, "reference-gather-rays")) {
+            cli_uint(&a, 1, 65536, &o->ref_gather_rays);
         } else if (!strcmp(opt, "max-reference-elements")) {
             cli_uint(&a, 0, 100000, &o->max_ref_elements);
         } else if (!strcmp(opt, "time")) {
