@@ -38,8 +38,8 @@ static xrad_scene *room(double density, const char *room_e, const char *lamp_e)
 
 static void test_refusals(void)
 {
-    /* 200 x 200 = 40000 elements: a 6.0 GiB matrix, refused before any
-     * allocation. */
+    /* 200 x 200 = 40000 elements: the dense solver's 6.0 GiB matrix is
+     * refused before any allocation; auto takes the gather solver. */
     const char *big =
         "{\"unit\":\"m\",\"materials\":[{\"name\":\"m\",\"albedo\":[0.5,0.5,0.5]}],"
         "\"objects\":[{\"name\":\"o\",\"surfaces\":[{\"name\":\"s\",\"material\":\"m\","
@@ -52,10 +52,25 @@ static void test_refusals(void)
         xrad_atlas atlas = {0};
         st = xrad_atlas_create(scene, &atlas, &err);
         CHECK(st == XRAD_OK, "atlas: %s", err.message);
-        st = xrad_reference_solve(scene, NULL, &atlas, NULL, &err);
-        CHECK(st == XRAD_ERROR_INPUT, "40000 elements: status %d", st);
+        st = xrad_reference_solve(
+            scene, &(xrad_reference_desc){.solver = XRAD_REFERENCE_SOLVER_DENSE}, &atlas, NULL,
+            &err);
+        CHECK(st == XRAD_ERROR_INPUT, "40000 elements, dense: status %d", st);
         CHECK(strstr(err.message, "40000") && strstr(err.message, "GiB"), "message: %s", err.message);
         fprintf(stderr, "refused: %s\n", err.message);
+        /* A lone unlit plane: every ray leaves, B = 0. */
+        xrad_reference_stats stats = {0};
+        st = xrad_reference_solve(scene, &(xrad_reference_desc){.gather_rays = 16}, &atlas,
+                                  &stats, &err);
+        CHECK(st == XRAD_OK && stats.solver == XRAD_REFERENCE_SOLVER_GATHER,
+              "40000 elements, auto: status %d, solver %d: %s", st, (int)stats.solver,
+              err.message);
+        size_t nonzero = 0;
+        for (size_t k = 0; !st && k < (size_t)atlas.width * atlas.height * 4; k++)
+            nonzero += k % 4 != 3 && atlas.rgba[k] != 0;
+        CHECK(nonzero == 0 && stats.max_row_sum == 0,
+              "40000 elements, auto: %zu non-zero channels, %.3f of a row's rays met a surface",
+              nonzero, stats.max_row_sum);
         xrad_atlas_destroy(&atlas);
         xrad_scene_destroy(&scene);
     }
