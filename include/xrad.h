@@ -458,12 +458,27 @@ typedef struct xrad_solver_desc {
      * it sends (point form factors, nearest-texel visibility); default 0 =
      * ON. */
     uint32_t conserve;
+    /* progressive shots (all methods but gather): XRAD_CULL_ON leaves out
+     * of a shot's ID hemicubes the clusters of triangles behind every
+     * hemicube's base and the clusters of a closed mesh's outside that
+     * face away from every origin (the picture does not change; vertex
+     * work is the hemicube's cost). Default 0 = AUTO: on where the scene
+     * has at least XRAD_CULL_MIN_CLUSTERS clusters of 256 triangles (in a
+     * scene of a few boxes the extra dispatch costs more than it saves). */
+    uint32_t cull;
 } xrad_solver_desc;
 
 enum {
     XRAD_CONSERVE_ON = 1,
     XRAD_CONSERVE_OFF = 2,
 };
+
+enum {
+    XRAD_CULL_ON = 1,
+    XRAD_CULL_OFF = 2,
+    XRAD_CULL_AUTO = 3,
+};
+#define XRAD_CULL_MIN_CLUSTERS 8
 
 enum {
     XRAD_AMBIENT_OFF = 1,

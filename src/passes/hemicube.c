@@ -456,6 +456,19 @@ static void begin(hemicube_pass *p, VkCommandBuffer cmd, uint32_t framebuffer)
     vkCmdBeginRenderPass(cmd, &info, VK_SUBPASS_CONTENTS_INLINE);
 }
 
+/* The cull pass's commands: one multi-draw where the device has it. */
+static void draw_commands(const hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw *d)
+{
+    const uint32_t stride = sizeof(VkDrawIndirectCommand);
+    if (p->ctx->features.multi_draw_indirect &&
+        d->command_count <= p->ctx->props.limits.maxDrawIndirectCount) {
+        vkCmdDrawIndirect(cmd, d->commands->buffer, 0, d->command_count, stride);
+        return;
+    }
+    for (uint32_t k = 0; k < d->command_count; k++)
+        vkCmdDrawIndirect(cmd, d->commands->buffer, (VkDeviceSize)k * stride, 1, stride);
+}
+
 void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw *d)
 {
     bind(p, d);
@@ -484,7 +497,9 @@ void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw 
             vkCmdBindVertexBuffers(cmd, 0, 1, &d->vertices->buffer, &zero);
             push.hemicube = k;
             vkCmdPushConstants(cmd, p->layout, stages, 0, sizeof(push), &push);
-            if (d->vertex_count)
+            if (d->commands)
+                draw_commands(p, cmd, d);
+            else if (d->vertex_count)
                 vkCmdDraw(cmd, d->vertex_count, 1, 0, 0);
             vkCmdEndRenderPass(cmd);
         }
@@ -497,7 +512,9 @@ void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw 
         vkCmdSetScissor(cmd, 0, 1, &scissor);
         vkCmdBindVertexBuffers(cmd, 0, 1, &d->vertices->buffer, &zero);
         vkCmdPushConstants(cmd, p->layout, stages, 0, sizeof(push), &push);
-        if (d->indirect)
+        if (d->commands)
+            draw_commands(p, cmd, d);
+        else if (d->indirect)
             vkCmdDrawIndirect(cmd, d->indirect->buffer, d->indirect_offset, 1, 0);
         else if (d->vertex_count)
             vkCmdDraw(cmd, d->vertex_count, n * HEMICUBE_FACES, 0, 0);
@@ -568,6 +585,23 @@ void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_sce
         .frames = frames,
         .indirect = indirect,
         .indirect_offset = indirect_offset,
+    };
+    hemicube_record(pass, cmd, &d);
+}
+
+void hemicube_record_ids_culled(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
+                                const gpu_buffer *frames, const gpu_buffer *indirect,
+                                VkDeviceSize indirect_offset, const gpu_buffer *commands,
+                                uint32_t count)
+{
+    hemicube_draw d = {
+        .vertices = &gs->vertices,
+        .vertex_count = gs->vertex_count,
+        .frames = frames,
+        .indirect = indirect,
+        .indirect_offset = indirect_offset,
+        .commands = commands,
+        .command_count = count,
     };
     hemicube_record(pass, cmd, &d);
 }

@@ -167,6 +167,12 @@ typedef struct hemicube_draw {
     VkDeviceSize indirect_offset;
     const gpu_image *atlas; /* radiosity: RGBA32F, in VK_IMAGE_LAYOUT_GENERAL */
     float scale;            /* radiosity: image = B x scale; 0 means 1 */
+    /* Instead of one draw of vertex_count vertices: command_count
+     * VkDrawIndirectCommands from offset 0 of `commands` (INDIRECT usage;
+     * the cull pass's, passes/hemicube_cull.h), each with the instance
+     * count the path needs (layered: hemicubes x 5, multiview: 1). */
+    const gpu_buffer *commands;
+    uint32_t command_count;
 } hemicube_draw;
 
 /* Records the hemicubes into `cmd` outside any render pass (and, with 4
@@ -181,5 +187,12 @@ void hemicube_record(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_dr
 void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
                          const gpu_buffer *frames, const gpu_buffer *indirect,
                          VkDeviceSize indirect_offset);
+
+/* The same with the cull pass's `count` commands instead of one draw of
+ * every vertex. */
+void hemicube_record_ids_culled(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
+                                const gpu_buffer *frames, const gpu_buffer *indirect,
+                                VkDeviceSize indirect_offset, const gpu_buffer *commands,
+                                uint32_t count);
 
 #endif

@@ -102,6 +102,10 @@ typedef struct surface {
     bool triangle; /* p[3] == p[2], the apex (see the top of this file) */
     bool mesh;     /* from a triangle mesh (xrad_scene_builder_add_mesh): a triangle or a
                       joined pair; cross groups a dynamic mesh's faces into patches */
+    bool closed;   /* a face of a closed mesh with its fronts outside (every edge shared by
+                      two of its triangles, walked opposite ways; positive volume): seen from
+                      outside, its back faces lie behind its front faces (the hemicube cull
+                      pass, solvers/hemicube_clusters.h) */
 } surface;
 
 /* Elements are stored surface by surface, object by object, row-major

@@ -717,8 +717,24 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
             edges[3 * t + k] = (mesh_edge){v0 < v1 ? v0 : v1, v0 < v1 ? v1 : v0, t, (uint8_t)k};
         }
     }
+    qsort(edges, 3ull * nt, sizeof(mesh_edge), edge_cmp);
+    /* Closed with its fronts outside: every edge in exactly two triangles,
+     * walked opposite ways, and a positive volume (divergence theorem). */
+    bool closed = true;
+    for (uint64_t e = 0; closed && e < 3ull * nt; e += 2) {
+        const mesh_edge *x = &edges[e], *y = &edges[e + 1];
+        closed = e + 1 < 3ull * nt && x->lo == y->lo && x->hi == y->hi &&
+                 (e + 2 >= 3ull * nt || edges[e + 2].lo != x->lo || edges[e + 2].hi != x->hi) &&
+                 (weld[m->indices[3 * x->tri + x->slot]] == x->lo) !=
+                     (weld[m->indices[3 * y->tri + y->slot]] == y->lo);
+    }
+    double volume = 0;
+    for (uint32_t t = 0; closed && t < nt; t++)
+        volume += v3_dot(mesh_point(m, m->indices[3 * t]),
+                         v3_cross(mesh_point(m, m->indices[3 * t + 1]),
+                                  mesh_point(m, m->indices[3 * t + 2])));
+    closed = closed && volume > 0;
     if (!m->keep_triangles) {
-        qsort(edges, 3ull * nt, sizeof(mesh_edge), edge_cmp);
         /* An edge two triangles share (and no third), walked in opposite
          * directions, same material: join greedily in edge order. */
         for (uint64_t e = 0; e + 1 < 3ull * nt; e++) {
@@ -770,8 +786,10 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
                 qd.p[k][2] = q[k].z;
             }
             st = scene_builder_quad(b, &qd, sw, "indices", density, err);
-            if (!st)
+            if (!st) {
                 b->sc->surfaces[b->sc->surface_count - 1].mesh = true;
+                b->sc->surfaces[b->sc->surface_count - 1].closed = closed;
+            }
             continue;
         }
         surface *s;
@@ -789,6 +807,7 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
         s->object = b->sc->object_count - 1;
         s->material = mat;
         s->mesh = true;
+        s->closed = closed;
         st = finish_surface(b, err, sw, "density", density, NULL);
     }
 done:

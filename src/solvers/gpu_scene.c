@@ -8,6 +8,7 @@
 #include "gpu/cmd.h"
 #include "gpu/context.h"
 #include "radiosity.h"
+#include "solvers/hemicube_clusters.h"
 
 /* Host copies of the posed geometry, filled by fill_geometry. */
 typedef struct geometry {
@@ -27,16 +28,12 @@ static void geometry_free(geometry *g)
 /* Buffers cannot be empty; a scene without surfaces still gets one entry. */
 static size_t at_least_one(size_t n) { return n ? n : 1; }
 
-/* Hemicube vertices of a surface: a quad's two triangles, a triangle's
- * one (its second would be the collapsed one: vertex work for nothing,
- * and vertex work is the hemicube's cost on lavapipe). */
-static uint32_t surface_vertices(const surface *sf)
-{
-    return sf->triangle ? 3 : 6;
-}
+static uint32_t surface_vertices(const surface *sf) { return hemicube_surface_vertices(sf); }
 
+/* The host tables at `time`; the hemicube vertices in `layout`'s order. */
 static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_patches,
-                                 double time, geometry *g, double *diameter, xrad_error *err)
+                                 const hemicube_clusters *layout, double time, geometry *g,
+                                 double *diameter, xrad_error *err)
 {
     memset(g, 0, sizeof(*g));
     g->surfaces = calloc(at_least_one(scene->surface_count), sizeof(*g->surfaces));
@@ -51,13 +48,6 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
                          scene->path);
     }
     vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
-    /* Vertices of static surfaces first, so that a draw of the first
-     * static_vertex_count vertices shows the static set C alone (the cross
-     * method's back hemicubes, thesis 4.5.2). */
-    size_t static_at = 0, dynamic_at = 0;
-    for (uint32_t s = 0; s < scene->surface_count; s++)
-        if (!scene->objects[scene->surfaces[s].object].dynamic)
-            dynamic_at += surface_vertices(&scene->surfaces[s]);
     double inv_w = 1.0 / (scene->atlas_width ? scene->atlas_width : 1);
     double inv_h = 1.0 / (scene->atlas_height ? scene->atlas_height : 1);
     for (uint32_t s = 0; s < scene->surface_count; s++) {
@@ -107,9 +97,12 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
         float tile[4] = {(float)((e0->texel_x + 0.5) * inv_w), (float)((e0->texel_y + 0.5) * inv_h),
                          (float)((e1->texel_x + 0.5) * inv_w), (float)((e1->texel_y + 0.5) * inv_h)};
         static const int tri[6] = {0, 1, 2, 0, 2, 3};
+        /* Static surfaces first, so that a draw of the first
+         * static_vertex_count vertices shows the static set C alone (the
+         * cross method's back hemicubes, thesis 4.5.2); in clusters the
+         * cull pass can leave out (hemicube_clusters.h). */
         uint32_t nv = surface_vertices(sf);
-        size_t at = gsf->dynamic ? dynamic_at : static_at;
-        *(gsf->dynamic ? &dynamic_at : &static_at) += nv;
+        size_t at = layout->first_vertex[s];
         for (uint32_t k = 0; k < nv; k++) {
             const element *el = &scene->elements[sf->first_element + ci[tri[k]]];
             gpu_scene_vertex *v = &g->vertices[at + k];
@@ -165,22 +158,32 @@ static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, doub
     const xrad_scene *scene = gs->scene;
     geometry g;
     double diameter = 0;
-    xrad_status s = fill_geometry(scene, gs->fixed_patches, time, &g, &diameter, err);
+    xrad_status s = fill_geometry(scene, gs->fixed_patches, &gs->layout, time, &g, &diameter,
+                                  err);
     if (!s)
         s = mark_buried(gs, time, diameter, &g, err);
+    struct gpu_cluster *clusters =
+        s ? NULL : malloc(at_least_one(gs->cluster_count) * sizeof *clusters);
+    if (!s && !clusters)
+        s = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for the GPU scene",
+                      scene->path);
     if (s) {
         geometry_free(&g);
         return s;
     }
+    hemicube_clusters_bounds(&gs->layout, scene, g.surfaces, clusters);
     if (!(s = gpu_upload_buffer(ctx, &gs->surfaces, 0, g.surfaces,
                                 at_least_one(gs->surface_count) * sizeof(*g.surfaces), err)) &&
         !(s = gpu_upload_buffer(ctx, &gs->elements, 0, g.elements,
                                 at_least_one(gs->element_count) * sizeof(*g.elements), err)) &&
         !(s = gpu_upload_buffer(ctx, &gs->vertices, 0, g.vertices,
-                                at_least_one(gs->vertex_count) * sizeof(*g.vertices), err))) {
+                                at_least_one(gs->vertex_count) * sizeof(*g.vertices), err)) &&
+        !(s = gpu_upload_buffer(ctx, &gs->clusters, 0, clusters,
+                                at_least_one(gs->cluster_count) * sizeof(*clusters), err))) {
         gs->time = time;
         gs->diameter = diameter;
     }
+    free(clusters);
     geometry_free(&g);
     return s;
 }
@@ -294,10 +297,13 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "GPU scene: out of host memory");
     }
     uint32_t enclosed_count;
-    if ((s = scene_find_enclosed(scene, out->enclosed, &enclosed_count, err))) {
+    if ((s = scene_find_enclosed(scene, out->enclosed, &enclosed_count, err)) ||
+        (s = hemicube_clusters_build(scene, &out->layout, err))) {
         gpu_scene_destroy(ctx, out);
         return s;
     }
+    out->cluster_count = out->layout.count;
+    out->static_cluster_count = out->layout.static_count;
     if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "scene data", err)) ||
         (s = gpu_buffer_create(ctx, ns * sizeof(struct gpu_surface), storage, GPU_MEM_DEVICE,
                                GPU_MEM_GEOMETRY, &out->surfaces, err)) ||
@@ -312,6 +318,8 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
         (s = gpu_buffer_create(ctx, nv * sizeof(gpu_scene_vertex),
                                storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, GPU_MEM_DEVICE,
                                GPU_MEM_GEOMETRY, &out->vertices, err)) ||
+        (s = gpu_buffer_create(ctx, at_least_one(out->cluster_count) * sizeof(struct gpu_cluster),
+                               storage, GPU_MEM_DEVICE, GPU_MEM_GEOMETRY, &out->clusters, err)) ||
         (s = gpu_image_create(ctx, &ad, &out->atlas, err)) ||
         (s = upload_geometry(ctx, out, time, err)) || (s = upload_materials(ctx, out, err)) ||
         (s = gpu_scene_reset(ctx, out, false, err)) || (s = init_atlas(ctx, out, err))) {
@@ -345,6 +353,8 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
     free(gs->enclosed_m);
     gpu_image_destroy(ctx, &gs->atlas);
     gpu_buffer_destroy(ctx, &gs->vertices);
+    gpu_buffer_destroy(ctx, &gs->clusters);
+    hemicube_clusters_free(&gs->layout);
     gpu_buffer_destroy(ctx, &gs->Bu);
     gpu_buffer_destroy(ctx, &gs->B);
     gpu_buffer_destroy(ctx, &gs->materials);

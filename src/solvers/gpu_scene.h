@@ -19,6 +19,7 @@
 #include "gpu/image.h"
 #include "scene/scene.h"
 #include "shared.h"
+#include "solvers/hemicube_clusters.h"
 #include "xrad.h"
 
 /* A host vector as the GPU tables store it. */
@@ -57,7 +58,10 @@ typedef struct gpu_scene {
     gpu_buffer elements;       /* struct gpu_element[element_count] */
     gpu_buffer materials;      /* struct gpu_material[material_count] */
     gpu_buffer B, Bu;          /* vec4[element_count] */
-    gpu_buffer vertices;       /* gpu_scene_vertex[vertex_count] */
+    gpu_buffer vertices;       /* gpu_scene_vertex[vertex_count], in layout's order */
+    hemicube_clusters layout;  /* the vertices' order and clusters (hemicube_clusters.h) */
+    uint32_t cluster_count, static_cluster_count;
+    gpu_buffer clusters;       /* struct gpu_cluster[cluster_count] at `time` */
     gpu_image atlas;           /* RGBA32F, atlas_width x atlas_height: B by element texel,
                                   written by the atlas scatter pass (passes/atlas_scatter.h);
                                   always in VK_IMAGE_LAYOUT_GENERAL (zero after create) */

@@ -23,6 +23,7 @@
 #include "gpu/cmd.h"
 #include "gpu/context.h"
 #include "passes/hemicube.h"
+#include "passes/hemicube_cull.h"
 #include "passes/hemicube_geometry.h"
 #include "passes/reconstruct.h"
 #include "passes/select.h"
@@ -43,6 +44,9 @@ struct progressive {
     gpu_buffer ff, norm; /* the reconstruct pass's conservation (reconstruct.h) */
     gpu_buffer shot;     /* the shot surface's Bu by element (select.h) */
     gpu_buffer status;   /* struct select_status, host-visible: read once per batch */
+    hemicube_cull_pass *cull; /* NULL: desc.cull off, or no clusters */
+    gpu_buffer commands; /* the cull pass's VkDrawIndirectCommand per cluster */
+    hemicube_cull_params cull_params;
     uint32_t max_shooters;
     bool static_only;
     bool redistributed; /* PROGRESSIVE_REDISTRIBUTED */
@@ -78,6 +82,8 @@ void progressive_destroy(xrad_solver *s, progressive **engine)
     if (!p)
         return;
     reconstruct_destroy(s->ctx, &p->reconstruct);
+    hemicube_cull_destroy(s->ctx, &p->cull);
+    gpu_buffer_destroy(s->ctx, &p->commands);
     hemicube_destroy(s->ctx, &p->hemicube);
     select_destroy(s->ctx, &p->select);
     gpu_buffer_destroy(s->ctx, &p->status);
@@ -130,6 +136,32 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_RADIOSITY, &p->shot, err)))
         goto fail;
+    /* Culling: one command per cluster (the static ones alone where the
+     * shots see C alone). */
+    uint32_t clusters = static_only ? gs->static_cluster_count : gs->cluster_count;
+    bool cull = s->desc.cull == XRAD_CULL_ON ||
+                (s->desc.cull != XRAD_CULL_OFF && clusters >= XRAD_CULL_MIN_CLUSTERS);
+    if (cull && clusters > 0) {
+        if ((st = gpu_buffer_create(ctx, (VkDeviceSize)clusters * sizeof(VkDrawIndirectCommand),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
+                                        VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                    GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &p->commands, err)) ||
+            (st = hemicube_cull_create(ctx, &p->cull, err)))
+            goto fail;
+        hemicube_cull_bind(ctx, p->cull,
+                           &(hemicube_cull_buffers){&gs->clusters, &p->shooters, &p->status,
+                                                    &p->commands});
+        bool multiview = hemicube_pass_path(p->hemicube) == HEMICUBE_PATH_MULTIVIEW;
+        p->cull_params = (hemicube_cull_params){
+            .cluster_count = clusters,
+            .count_word = offsetof(struct select_status, shooter_count) / 4,
+            .instances = multiview ? 1 : 0,
+            .instance_word = offsetof(struct select_status, draw_instance_count) / 4,
+            /* Past the origin's hair (hemicube.h) and float rounding of
+             * the bounds. */
+            .margin = 4 * HEMICUBE_HAIR_FRACTION * gs->diameter,
+        };
+    }
     /* Three timed passes per shot in one command buffer. */
     if (s->timer->capacity < 3 * s->desc.batch + 1) {
         gpu_timer_destroy(ctx, &s->timer);
@@ -200,8 +232,20 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
                        VK_PIPELINE_STAGE_EARLY_FRAGMENT_TESTS_BIT,
                    VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
     gpu_timer_begin(s->timer, cmd, "hemicube");
-    hemicube_record_ids(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
-                        offsetof(struct select_status, draw_vertex_count));
+    if (p->cull) {
+        /* The pose's bounds: gpu_scene_pose may have moved them since. */
+        p->cull_params.margin = 4 * HEMICUBE_HAIR_FRACTION * s->gs.diameter;
+        hemicube_cull_record(p->cull, cmd, &p->cull_params);
+        gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+        hemicube_record_ids_culled(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
+                                   offsetof(struct select_status, draw_vertex_count),
+                                   &p->commands, p->cull_params.cluster_count);
+    } else {
+        hemicube_record_ids(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
+                            offsetof(struct select_status, draw_vertex_count));
+    }
     gpu_timer_end(s->timer, cmd);
     /* The ID hemicubes are complete before any element looks them up. */
     gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,

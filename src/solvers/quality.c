@@ -80,6 +80,12 @@ static const setting settings[] = {
       "down where they would take more)",
       XRAD_SETTING_CHOICE, XRAD_CONSERVE_ON, 1, 2, "on|off"},
      SOLVER(conserve), RULE_NONE},
+    {{"cull",
+      "progressive shots: leave out of the ID hemicubes what none of them can see (clusters "
+      "behind the shooter, closed meshes' clusters facing away); auto: scenes of 8 clusters "
+      "of 256 triangles or more",
+      XRAD_SETTING_CHOICE, XRAD_CULL_AUTO, 1, 3, "on|off|auto"},
+     SOLVER(cull), RULE_NONE},
     {{"density_scale", "every element density of the scene file times this (at load)",
       XRAD_SETTING_REAL, 1, 0, 16, NULL},
      offsetof(xrad_quality, density_scale), RULE_OPEN_LOW},

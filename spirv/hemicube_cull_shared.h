@@ -1,0 +1,40 @@
+/*
+ * Hemicube cull pass layouts shared by C (src/passes/hemicube_cull.c,
+ * src/solvers/gpu_scene.c) and GLSL (spirv/hemicube_cull.comp). Same rules
+ * as shared.h.
+ */
+#ifndef XRAD_SPIRV_HEMICUBE_CULL_SHARED_H
+#define XRAD_SPIRV_HEMICUBE_CULL_SHARED_H
+
+#include "shared.h"
+
+#define CULL_BINDING_CLUSTERS 0 /* struct gpu_cluster[] */
+#define CULL_BINDING_FRAMES 1   /* struct gpu_shooter[]: the hemicubes' frames */
+#define CULL_BINDING_STATUS 2   /* uint[]: the shot's hemicube count at count_word */
+#define CULL_BINDING_COMMANDS 3 /* VkDrawIndirectCommand[]: one per cluster, written */
+
+#define CULL_GROUP 64u
+
+/* A run of hemicube vertices (whole surfaces of one object, gpu_scene.h)
+ * and its bounds at the pose the vertices hold, world space. */
+struct gpu_cluster {
+    vec4 center;     /* xyz: centre of the bounding box; w: its half diagonal (m) */
+    vec4 half_size;  /* xyz: half the box's size; w: the normal cone's half-angle (rad), or
+                        < 0 where the triangles are not all on a closed mesh's outside */
+    vec4 cone_axis;  /* xyz: unit mean direction of the triangles' front normals */
+    vec4 object_lo;  /* the closed mesh's box: an origin in it skips the cone test */
+    vec4 object_hi;
+    uint first_vertex, vertex_count, pad0, pad1;
+};
+
+struct cull_push {
+    uint cluster_count;
+    uint first;       /* frame of hemicube 0 */
+    uint count_word;  /* uint of STATUS holding the shot's hemicube count */
+    uint instances;   /* each command's instanceCount; 0: STATUS's uint at instance_word */
+    uint instance_word;
+    float margin;     /* m: tests pass only by more than this (the origin's hair, rounding) */
+    float pad0, pad1;
+};
+
+#endif

@@ -1,0 +1,197 @@
+/* Clusters of hemicube vertices (hemicube_clusters.h). */
+#include "solvers/hemicube_clusters.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/error.h"
+
+/* Cones wider than this are no use (nothing faces away from every origin
+ * outside a half-space) and are left out. */
+#define MAX_CONE_ANGLE 1.4 /* rad, 80 degrees */
+
+typedef struct keyed {
+    uint64_t key;
+    uint32_t surface;
+} keyed;
+
+static int by_key(const void *a, const void *b)
+{
+    const keyed *x = a, *y = b;
+    return x->key < y->key ? -1 : x->key > y->key ? 1 : (x->surface > y->surface) - (x->surface < y->surface);
+}
+
+/* Spreads the low 10 bits of v to every third bit. */
+static uint64_t spread3(uint32_t v)
+{
+    uint64_t x = v & 0x3ff;
+    x = (x | x << 16) & 0x30000ff;
+    x = (x | x << 8) & 0x300f00f;
+    x = (x | x << 4) & 0x30c30c3;
+    x = (x | x << 2) & 0x9249249;
+    return x;
+}
+
+static vec3 centroid(const surface *sf)
+{
+    int n = sf->triangle ? 3 : 4;
+    vec3 c = v3(0, 0, 0);
+    for (int k = 0; k < n; k++)
+        c = v3_add(c, sf->p[k]);
+    return v3_scale(c, 1.0 / n);
+}
+
+void hemicube_clusters_free(hemicube_clusters *c)
+{
+    free(c->order);
+    free(c->first_vertex);
+    free(c->start);
+    free(c->closed);
+    memset(c, 0, sizeof(*c));
+}
+
+xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *out,
+                                    xrad_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    uint32_t ns = scene->surface_count, no = scene->object_count;
+    size_t sa = ns ? ns : 1;
+    keyed *keys = malloc(sa * sizeof *keys);
+    out->order = malloc(sa * sizeof *out->order);
+    out->first_vertex = malloc(sa * sizeof *out->first_vertex);
+    out->start = malloc((sa + 1) * sizeof *out->start);
+    out->closed = calloc(no ? no : 1, 1);
+    vec3 *lo = malloc((no ? no : 1) * sizeof *lo), *hi = malloc((no ? no : 1) * sizeof *hi);
+    if (!keys || !out->order || !out->first_vertex || !out->start || !out->closed || !lo || !hi) {
+        free(keys);
+        free(lo);
+        free(hi);
+        hemicube_clusters_free(out);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "hemicube clusters: out of host memory");
+    }
+    for (uint32_t o = 0; o < no; o++) {
+        lo[o] = v3(INFINITY, INFINITY, INFINITY);
+        hi[o] = v3(-INFINITY, -INFINITY, -INFINITY);
+    }
+    for (uint32_t s = 0; s < ns; s++) {
+        const surface *sf = &scene->surfaces[s];
+        for (int k = 0; k < 4; k++) {
+            vec3 p = sf->p[k];
+            lo[sf->object] = v3(fmin(lo[sf->object].x, p.x), fmin(lo[sf->object].y, p.y),
+                                fmin(lo[sf->object].z, p.z));
+            hi[sf->object] = v3(fmax(hi[sf->object].x, p.x), fmax(hi[sf->object].y, p.y),
+                                fmax(hi[sf->object].z, p.z));
+        }
+    }
+    /* Key: static before dynamic, then the object, then the Morton code
+     * of the centre in the object's box (10 bits an axis). */
+    for (uint32_t s = 0; s < ns; s++) {
+        const surface *sf = &scene->surfaces[s];
+        uint32_t o = sf->object;
+        vec3 c = centroid(sf), size = v3_sub(hi[o], lo[o]);
+        double q[3] = {size.x > 0 ? (c.x - lo[o].x) / size.x : 0,
+                       size.y > 0 ? (c.y - lo[o].y) / size.y : 0,
+                       size.z > 0 ? (c.z - lo[o].z) / size.z : 0};
+        uint64_t morton = 0;
+        for (int a = 0; a < 3; a++)
+            morton |= spread3((uint32_t)fmin(1023.0, fmax(0.0, q[a] * 1024))) << a;
+        uint64_t dynamic = scene->objects[o].dynamic ? 1 : 0;
+        keys[s] = (keyed){dynamic << 62 | (uint64_t)o << 30 | morton, s};
+    }
+    free(lo);
+    free(hi);
+    qsort(keys, ns, sizeof *keys, by_key);
+    uint32_t vertex = 0, triangles = 0;
+    for (uint32_t k = 0; k < ns; k++) {
+        uint32_t s = keys[k].surface;
+        const surface *sf = &scene->surfaces[s];
+        out->order[k] = s;
+        out->first_vertex[s] = vertex;
+        vertex += hemicube_surface_vertices(sf);
+        /* A new cluster at a new object or a full one. */
+        uint32_t tris = hemicube_surface_vertices(sf) / 3;
+        bool new_object = k == 0 || scene->surfaces[out->order[k - 1]].object != sf->object;
+        if (new_object || triangles + tris > HEMICUBE_CLUSTER_TRIANGLES) {
+            out->start[out->count++] = k;
+            triangles = 0;
+            if (!scene->objects[sf->object].dynamic)
+                out->static_count = out->count;
+        }
+        triangles += tris;
+    }
+    out->start[out->count] = ns;
+    free(keys);
+    /* Closed objects: every surface a face of a closed mesh facing out
+     * (scene.h surface.closed). */
+    for (uint32_t o = 0; o < no; o++)
+        out->closed[o] = 1;
+    for (uint32_t s = 0; s < ns; s++)
+        out->closed[scene->surfaces[s].object] &= scene->surfaces[s].closed ? 1 : 0;
+    for (uint32_t o = 0; o < no; o++)
+        out->closed[o] &= scene->objects[o].surface_count > 0 ? 1 : 0;
+    return XRAD_OK;
+}
+
+void hemicube_clusters_bounds(const hemicube_clusters *c, const xrad_scene *scene,
+                              const struct gpu_surface *surfaces, struct gpu_cluster *out)
+{
+    for (uint32_t k = 0; k < c->count; k++) {
+        vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+        vec3 axis = v3(0, 0, 0);
+        uint32_t vertices = 0;
+        for (uint32_t i = c->start[k]; i < c->start[k + 1]; i++) {
+            uint32_t s = c->order[i];
+            const struct gpu_surface *g = &surfaces[s];
+            for (int q = 0; q < 4; q++) {
+                vec3 p = v3(g->corner[q].x, g->corner[q].y, g->corner[q].z);
+                lo = v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
+                hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
+            }
+            axis = v3_mad(axis, v3(g->normal_area.x, g->normal_area.y, g->normal_area.z),
+                          g->normal_area.w);
+            vertices += hemicube_surface_vertices(&scene->surfaces[s]);
+        }
+        uint32_t first = c->order[c->start[k]];
+        uint32_t obj = scene->surfaces[first].object;
+        double theta = -1;
+        if (c->closed[obj] && v3_len(axis) > 0) {
+            axis = v3_norm(axis);
+            theta = 0;
+            for (uint32_t i = c->start[k]; i < c->start[k + 1]; i++) {
+                const struct gpu_surface *g = &surfaces[c->order[i]];
+                double d = v3_dot(axis, v3(g->normal_area.x, g->normal_area.y, g->normal_area.z));
+                theta = fmax(theta, acos(fmin(1.0, fmax(-1.0, d))));
+            }
+            if (theta > MAX_CONE_ANGLE)
+                theta = -1;
+        }
+        vec3 centre = v3_scale(v3_add(lo, hi), 0.5), half = v3_scale(v3_sub(hi, lo), 0.5);
+        out[k] = (struct gpu_cluster){
+            .center = {(float)centre.x, (float)centre.y, (float)centre.z, (float)v3_len(half)},
+            .half_size = {(float)half.x, (float)half.y, (float)half.z, (float)theta},
+            .cone_axis = {(float)axis.x, (float)axis.y, (float)axis.z, 0},
+            .first_vertex = c->first_vertex[first],
+            .vertex_count = vertices,
+        };
+    }
+    /* Each closed object's box, over its clusters. */
+    for (uint32_t k = 0; k < c->count;) {
+        uint32_t obj = scene->surfaces[c->order[c->start[k]]].object, n = 0;
+        vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+        while (k + n < c->count &&
+               scene->surfaces[c->order[c->start[k + n]]].object == obj) {
+            const struct gpu_cluster *g = &out[k + n];
+            vec3 m = v3(g->center.x, g->center.y, g->center.z);
+            vec3 h = v3(g->half_size.x, g->half_size.y, g->half_size.z);
+            lo = v3(fmin(lo.x, m.x - h.x), fmin(lo.y, m.y - h.y), fmin(lo.z, m.z - h.z));
+            hi = v3(fmax(hi.x, m.x + h.x), fmax(hi.y, m.y + h.y), fmax(hi.z, m.z + h.z));
+            n++;
+        }
+        for (uint32_t i = k; i < k + n; i++) {
+            out[i].object_lo = (vec4){(float)lo.x, (float)lo.y, (float)lo.z, 0};
+            out[i].object_hi = (vec4){(float)hi.x, (float)hi.y, (float)hi.z, 0};
+        }
+        k += n;
+    }
+}

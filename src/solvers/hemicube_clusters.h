@@ -1,0 +1,56 @@
+/*
+ * The layout of the hemicube vertices (gpu_scene.h) in clusters the cull
+ * pass can leave out (passes/hemicube_cull.h): static surfaces first (a
+ * draw of the first static_vertex_count vertices shows the static set C
+ * alone), object by object, and within an object along a Morton curve of
+ * the surfaces' centres, so that a run of surfaces is a compact patch with
+ * a narrow cone of normals; a cluster is such a run of at most
+ * HEMICUBE_CLUSTER_TRIANGLES triangles (a quad counts two) of one object.
+ * An object whose surfaces close up (every edge shared by exactly two of
+ * them, wound opposite ways) with their fronts outside (positive volume)
+ * gets normal cones: seen from outside, its back faces lie behind its
+ * front faces.
+ *
+ * Built once per scene (the order does not change with the pose); the
+ * bounds follow every pose.
+ */
+#ifndef XRAD_SOLVERS_HEMICUBE_CLUSTERS_H
+#define XRAD_SOLVERS_HEMICUBE_CLUSTERS_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "hemicube_cull_shared.h"
+#include "radiosity.h"
+#include "scene/scene.h"
+#include "xrad.h"
+
+#define HEMICUBE_CLUSTER_TRIANGLES 256u
+
+typedef struct hemicube_clusters {
+    uint32_t *order;        /* surface_count: the surfaces in vertex order */
+    uint32_t *first_vertex; /* surface_count, by surface: its first hemicube vertex */
+    uint32_t *start;        /* count + 1: cluster k is order[start[k] .. start[k + 1]) */
+    uint32_t count;         /* clusters */
+    uint32_t static_count;  /* the first static_count clusters hold the static surfaces */
+    uint8_t *closed;        /* object_count: 1 where the object is closed, fronts outside */
+} hemicube_clusters;
+
+/* Hemicube vertices of a surface: a quad's two triangles, a triangle's
+ * one (its second would be the collapsed one: vertex work for nothing). */
+static inline uint32_t hemicube_surface_vertices(const surface *sf)
+{
+    return sf->triangle ? 3 : 6;
+}
+
+xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *out,
+                                    xrad_error *err);
+/* Accepts a zeroed struct; zeroes it. */
+void hemicube_clusters_free(hemicube_clusters *c);
+
+/* out[count]: each cluster's bounds from the posed surfaces (world
+ * corners and normals). */
+void hemicube_clusters_bounds(const hemicube_clusters *c, const xrad_scene *scene,
+                              const struct gpu_surface *surfaces, struct gpu_cluster *out);
+
+#endif
