@@ -577,22 +577,8 @@ void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw 
 
 void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
                          const gpu_buffer *frames, const gpu_buffer *indirect,
-                         VkDeviceSize indirect_offset)
-{
-    hemicube_draw d = {
-        .vertices = &gs->vertices,
-        .vertex_count = gs->vertex_count,
-        .frames = frames,
-        .indirect = indirect,
-        .indirect_offset = indirect_offset,
-    };
-    hemicube_record(pass, cmd, &d);
-}
-
-void hemicube_record_ids_culled(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
-                                const gpu_buffer *frames, const gpu_buffer *indirect,
-                                VkDeviceSize indirect_offset, const gpu_buffer *commands,
-                                uint32_t count)
+                         VkDeviceSize indirect_offset, const gpu_buffer *commands,
+                         uint32_t count)
 {
     hemicube_draw d = {
         .vertices = &gs->vertices,
@@ -601,7 +587,7 @@ void hemicube_record_ids_culled(hemicube_pass *pass, VkCommandBuffer cmd, const 
         .indirect = indirect,
         .indirect_offset = indirect_offset,
         .commands = commands,
-        .command_count = count,
+        .command_count = commands ? count : 0,
     };
     hemicube_record(pass, cmd, &d);
 }

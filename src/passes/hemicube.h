@@ -183,16 +183,12 @@ typedef struct hemicube_draw {
 void hemicube_record(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_draw *draw);
 
 /* The ID variant of a scene with the indirect count at `indirect_offset`
- * of `indirect`: what the progressive solver records per shot. */
+ * of `indirect`: what the progressive solver records per shot. With
+ * `commands` (else NULL), the cull pass's `count` commands instead of one
+ * draw of every vertex. */
 void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
                          const gpu_buffer *frames, const gpu_buffer *indirect,
-                         VkDeviceSize indirect_offset);
-
-/* The same with the cull pass's `count` commands instead of one draw of
- * every vertex. */
-void hemicube_record_ids_culled(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
-                                const gpu_buffer *frames, const gpu_buffer *indirect,
-                                VkDeviceSize indirect_offset, const gpu_buffer *commands,
-                                uint32_t count);
+                         VkDeviceSize indirect_offset, const gpu_buffer *commands,
+                         uint32_t count);
 
 #endif

@@ -110,6 +110,14 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
 xrad_status ref_gather_solve(const xrad_scene *scene, const xrad_reference_desc *d, double *b,
                              xrad_reference_stats *stats, xrad_error *err);
 
+/* The end of a Gauss-Seidel sweep: the residual, max |delta B| / max |B|
+ * per channel and the largest of the three (a channel whose values are
+ * small next to another's still converges relative to its own scale),
+ * reported to d->progress as log(residual) / log(d->residual) by whole
+ * percents (*reported: the last fraction reported, -1 at first). */
+double ref_sweep_residual(const xrad_reference_desc *d, const double max_delta[3],
+                          const double max_b[3], double *reported);
+
 /* Monotonic wall clock, s. */
 double ref_seconds(void);
 

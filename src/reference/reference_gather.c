@@ -181,7 +181,7 @@ static void solve(const gather *G, const xrad_reference_desc *d, double *b,
         b[3 * i + 1] = m->emission.y + m->albedo.y * G->direct[3 * i + 1];
         b[3 * i + 2] = m->emission.z + m->albedo.z * G->direct[3 * i + 2];
     }
-    double residual = 0, reported = -1, log_target = log(d->residual);
+    double residual = 0, reported = -1;
     uint32_t sweep = 0;
     while (sweep < d->max_sweeps) {
         sweep++;
@@ -208,17 +208,7 @@ static void solve(const gather *G, const xrad_reference_desc *d, double *b,
                 b[3 * i + c] = nb;
             }
         }
-        residual = 0;
-        for (int c = 0; c < 3; c++)
-            if (max_b[c] > 0)
-                residual = fmax(residual, max_delta[c] / max_b[c]);
-        if (d->progress) {
-            double f = residual > 0 ? fmin(1.0, fmax(0.0, log(residual) / log_target)) : 1.0;
-            if (f >= reported + 0.01 || (f == 1.0 && reported < 1.0)) {
-                reported = f;
-                d->progress(d->progress_user, "solve", f);
-            }
-        }
+        residual = ref_sweep_residual(d, max_delta, max_b, &reported);
         if (residual < d->residual)
             break;
     }

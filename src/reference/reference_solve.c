@@ -412,6 +412,24 @@ done:
     return st;
 }
 
+double ref_sweep_residual(const xrad_reference_desc *d, const double max_delta[3],
+                          const double max_b[3], double *reported)
+{
+    double residual = 0;
+    for (int c = 0; c < 3; c++)
+        if (max_b[c] > 0)
+            residual = fmax(residual, max_delta[c] / max_b[c]);
+    if (d->progress) {
+        double f =
+            residual > 0 ? fmin(1.0, fmax(0.0, log(residual) / log(d->residual))) : 1.0;
+        if (f >= *reported + 0.01 || (f == 1.0 && *reported < 1.0)) {
+            *reported = f;
+            d->progress(d->progress_user, "solve", f);
+        }
+    }
+    return residual;
+}
+
 /* Gauss-Seidel on B_i = E_i + rho_i sum_j F_ij B_j (thesis eq. 2.2.2; 2.2.2
  * "Global exchange"), RGB, starting from B = E. b holds 3 n doubles. The
  * residual of a sweep is max |delta B| / max |B| taken per channel, and the
@@ -428,7 +446,7 @@ static void gauss_seidel(const xrad_scene *scene, const float *F, const xrad_ref
         b[3 * i + 1] = m->emission.y;
         b[3 * i + 2] = m->emission.z;
     }
-    double residual = 0, reported = -1, log_target = log(d->residual);
+    double residual = 0, reported = -1;
     uint32_t sweep = 0;
     while (sweep < d->max_sweeps) {
         sweep++;
@@ -452,17 +470,7 @@ static void gauss_seidel(const xrad_scene *scene, const float *F, const xrad_ref
                 b[3 * i + c] = nb[c];
             }
         }
-        residual = 0;
-        for (int c = 0; c < 3; c++)
-            if (max_b[c] > 0)
-                residual = fmax(residual, max_delta[c] / max_b[c]);
-        if (d->progress) {
-            double f = residual > 0 ? fmin(1.0, fmax(0.0, log(residual) / log_target)) : 1.0;
-            if (f >= reported + 0.01 || (f == 1.0 && reported < 1.0)) {
-                reported = f;
-                d->progress(d->progress_user, "solve", f);
-            }
-        }
+        residual = ref_sweep_residual(d, max_delta, max_b, &reported);
         if (residual < d->residual)
             break;
     }

@@ -233,19 +233,16 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
                    VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
     gpu_timer_begin(s->timer, cmd, "hemicube");
     if (p->cull) {
-        /* The pose's bounds: gpu_scene_pose may have moved them since. */
+        /* The margin follows the diameter of the pose (gpu_scene_pose). */
         p->cull_params.margin = 4 * HEMICUBE_HAIR_FRACTION * s->gs.diameter;
         hemicube_cull_record(p->cull, cmd, &p->cull_params);
         gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                            VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
                            VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
-        hemicube_record_ids_culled(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
-                                   offsetof(struct select_status, draw_vertex_count),
-                                   &p->commands, p->cull_params.cluster_count);
-    } else {
-        hemicube_record_ids(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
-                            offsetof(struct select_status, draw_vertex_count));
     }
+    hemicube_record_ids(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
+                        offsetof(struct select_status, draw_vertex_count),
+                        p->cull ? &p->commands : NULL, p->cull_params.cluster_count);
     gpu_timer_end(s->timer, cmd);
     /* The ID hemicubes are complete before any element looks them up. */
     gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,
