@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/error.h"
+#include "scene/quad_bvh.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
 
@@ -166,43 +167,6 @@ static bool quad_hit(const vec3 c[4], vec3 n, vec3 o, vec3 d, double tmin, doubl
     return *t > tmin && *t < tmax && inside_quad(c, n, v3_mad(o, d, *t), 0.0);
 }
 
-/* The nearest surface the ray o + t dir (t > tmin) meets, or -1; *back is
- * set when the ray meets its back face, *at to the point met. Dynamic
- * surfaces count only with `dynamic_too`. */
-static int32_t nearest_hit(const xrad_scene *scene, const vec3 *corners, const vec3 *normals,
-                           vec3 o, vec3 dir, double tmin, bool dynamic_too, bool *back, vec3 *at)
-{
-    int32_t best = -1;
-    double best_t = INFINITY;
-    for (uint32_t s = 0; s < scene->surface_count; s++) {
-        if (!dynamic_too && scene->objects[scene->surfaces[s].object].dynamic)
-            continue;
-        double t;
-        if (!quad_hit(&corners[4 * s], normals[s], o, dir, tmin, best_t, &t))
-            continue;
-        best = (int32_t)s;
-        best_t = t;
-        *back = v3_dot(normals[s], dir) > 0;
-        *at = v3_mad(o, dir, t);
-    }
-    return best;
-}
-
-/* Whether a surface other than `skip` crosses the segment a-b (ends
- * excluded). */
-static bool segment_blocked(const xrad_scene *scene, const vec3 *corners, const vec3 *normals,
-                            vec3 a, vec3 b, bool dynamic_too, uint32_t skip)
-{
-    for (uint32_t s = 0; s < scene->surface_count; s++) {
-        if (s == skip || (!dynamic_too && scene->objects[scene->surfaces[s].object].dynamic))
-            continue;
-        double t;
-        if (quad_hit(&corners[4 * s], normals[s], a, v3_sub(b, a), 1e-9, 1 - 1e-9, &t))
-            return true;
-    }
-    return false;
-}
-
 /* The parameters (u, v) of y on the planar quad c (surface_point's
  * bilinear map), by Newton's method, clamped to [0, 1]. */
 static void quad_params(const vec3 c[4], vec3 y, double *u, double *v)
@@ -235,7 +199,73 @@ typedef struct ray_scene {
     double time, diameter;
     bool dynamic_too;
     vec3 *corners, *normals; /* world, at `time` */
+    quad_bvh bvh;            /* over the corners: candidates for the exact tests */
 } ray_scene;
+
+/* A ray's query through the BVH: the nearest hit, or any hit but `skip`'s. */
+typedef struct ray_query {
+    const ray_scene *rs;
+    vec3 o, d;
+    double tmin, tmax;
+    uint32_t skip;
+    int32_t best;
+    double best_t;
+} ray_query;
+
+static bool counts(const ray_scene *rs, uint32_t s)
+{
+    return rs->dynamic_too || !rs->scene->objects[rs->scene->surfaces[s].object].dynamic;
+}
+
+static bool visit_nearest(void *user, uint32_t s, double *tmax)
+{
+    ray_query *q = user;
+    double t;
+    /* Up to and including the best so far: at equal t the lower index
+     * wins, as a loop over the surfaces in order finds it. */
+    if (!counts(q->rs, s) || !quad_hit(&q->rs->corners[4 * s], q->rs->normals[s], q->o, q->d,
+                                       q->tmin, nextafter(q->best_t, INFINITY), &t))
+        return false;
+    if (t < q->best_t || (t == q->best_t && (int32_t)s < q->best)) {
+        q->best = (int32_t)s;
+        q->best_t = t;
+        *tmax = t;
+    }
+    return false;
+}
+
+/* The nearest surface the ray o + t dir (t > tmin) meets, or -1; *back is
+ * set when the ray meets its back face, *at to the point met. Dynamic
+ * surfaces count only with rs->dynamic_too. */
+static int32_t nearest_hit(const ray_scene *rs, vec3 o, vec3 dir, double tmin, bool *back,
+                           vec3 *at)
+{
+    ray_query q = {.rs = rs, .o = o, .d = dir, .tmin = tmin, .best = -1, .best_t = INFINITY};
+    quad_bvh_ray(&rs->bvh, o, dir, tmin, INFINITY, visit_nearest, &q);
+    if (q.best >= 0) {
+        *back = v3_dot(rs->normals[q.best], dir) > 0;
+        *at = v3_mad(o, dir, q.best_t);
+    }
+    return q.best;
+}
+
+static bool visit_blocking(void *user, uint32_t s, double *tmax)
+{
+    (void)tmax;
+    ray_query *q = user;
+    double t;
+    return s != q->skip && counts(q->rs, s) &&
+           quad_hit(&q->rs->corners[4 * s], q->rs->normals[s], q->o, q->d, q->tmin, q->tmax, &t);
+}
+
+/* Whether a surface other than `skip` crosses the segment a-b (ends
+ * excluded). */
+static bool segment_blocked(const ray_scene *rs, vec3 a, vec3 b, uint32_t skip)
+{
+    ray_query q = {.rs = rs, .o = a, .d = v3_sub(b, a), .tmin = 1e-9, .tmax = 1 - 1e-9,
+                   .skip = skip};
+    return quad_bvh_ray(&rs->bvh, a, q.d, q.tmin, q.tmax, visit_blocking, &q);
+}
 
 /* The element of surface s whose receiver point y (on s, world) can see:
  * of the samples around y, nearest first, the first whose cell centroid
@@ -271,8 +301,7 @@ static uint32_t element_seen(const ray_scene *rs, uint32_t s, vec3 y)
     for (uint32_t m = 0; m < nc; m++) {
         uint32_t e = sf->first_element + cand[m];
         vec3 c = xf_point(&pose, scene_element_centroid(sf, &scene->elements[e]));
-        if (!segment_blocked(scene, rs->corners, rs->normals, v3_add(y, off), v3_add(c, off),
-                             rs->dynamic_too, s))
+        if (!segment_blocked(rs, v3_add(y, off), v3_add(c, off), s))
             return e;
     }
     return RAY_HIDDEN;
@@ -296,8 +325,7 @@ static void trace_rays(const ray_scene *rs, vec3 x, vec3 n, uint32_t out[RAY_COU
                                                            v3_scale(b, cos(el) * sin(phi))));
             bool back = false;
             vec3 at = x;
-            int32_t hit = nearest_hit(rs->scene, rs->corners, rs->normals, o, dir,
-                                      1e-7 * rs->diameter, rs->dynamic_too, &back, &at);
+            int32_t hit = nearest_hit(rs, o, dir, 1e-7 * rs->diameter, &back, &at);
             out[k] = hit < 0 ? RAY_OPEN : back ? RAY_BACK : element_seen(rs, (uint32_t)hit, at);
         }
     }
@@ -345,13 +373,15 @@ static xrad_status ray_scene_init(ray_scene *rs, const xrad_scene *scene, double
     vec3 lo, hi;
     scene_bounds(scene, time, &lo, &hi);
     rs->diameter = v3_len(v3_sub(hi, lo));
-    return XRAD_OK;
+    /* Boxes a hair larger than the quads: the exact tests decide. */
+    return quad_bvh_build(rs->corners, scene->surface_count, 1e-6 * rs->diameter, &rs->bvh, err);
 }
 
 static void ray_scene_free(ray_scene *rs)
 {
     free(rs->corners);
     free(rs->normals);
+    quad_bvh_free(&rs->bvh);
 }
 
 /* Enclosure of the elements with within[e] set, at scene time `time`
@@ -366,9 +396,9 @@ static xrad_status enclosure(const xrad_scene *scene, double time, bool dynamic_
     *count = 0;
     for (uint32_t e = 0; e < ne; e++)
         enclosed[e] = 0;
-    /* Every element casts 25 rays at every surface: past this much work
-     * (seconds on one core) a scene goes without the test. */
-    if ((double)ne * scene->surface_count > SCENE_ENCLOSED_MAX_WORK)
+    /* Every element casts 25 rays: past this many (seconds on one core)
+     * a scene goes without the test. */
+    if (ne > SCENE_ENCLOSED_MAX_ELEMENTS)
         return XRAD_OK;
     uint32_t ncand = 0;
     for (uint32_t e = 0; e < ne; e++)
