@@ -63,7 +63,7 @@ void ref_geometry_destroy(ref_geometry **geometry);
 
 /* The visible fraction of F(x_i -> polygon) (thesis eq. 2.2.3's HID
  * term): g->rays rays from the origin of element i to stratified points
- * of `poly` (world corners, wound like its surface; `poly_normal` its unit
+ * of `poly` (4 world corners, wound like its surface; `poly_normal` its unit
  * normal) drawn from `seed`, each weighted by the form factor integrand at
  * its end (cos phi_i cos phi_j / r^2; the 1/pi and the uniform area
  * element cancel in the ratio), so that the estimate converges to the
@@ -73,7 +73,7 @@ void ref_geometry_destroy(ref_geometry **geometry);
  * every quad but i's own, `target` (the polygon's surface) and those in
  * their planes. */
 double ref_visible_fraction(const ref_geometry *g, uint32_t i, uint32_t target,
-                            const vec3 poly[4], vec3 poly_normal, uint64_t seed,
+                            const vec3 *poly, vec3 poly_normal, uint64_t seed,
                             const uint32_t *cand, uint32_t count);
 
 /* Working memory of ref_form_factor_row, one per thread: per surface an

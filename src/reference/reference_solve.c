@@ -150,7 +150,7 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
 }
 
 double ref_visible_fraction(const ref_geometry *g, uint32_t i, uint32_t target,
-                            const vec3 poly[4], vec3 poly_normal, uint64_t seed,
+                            const vec3 *poly, vec3 poly_normal, uint64_t seed,
                             const uint32_t *cand, uint32_t count)
 {
     vec3 p = g->recv[i], n = g->normal[i];
