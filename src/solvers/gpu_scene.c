@@ -28,8 +28,6 @@ static void geometry_free(geometry *g)
 /* Buffers cannot be empty; a scene without surfaces still gets one entry. */
 static size_t at_least_one(size_t n) { return n ? n : 1; }
 
-static uint32_t surface_vertices(const surface *sf) { return hemicube_surface_vertices(sf); }
-
 /* The host tables at `time`; the hemicube vertices in `layout`'s order. */
 static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_patches,
                                  const hemicube_clusters *layout, double time, geometry *g,
@@ -40,7 +38,7 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
     g->elements = calloc(at_least_one(scene->element_count), sizeof(*g->elements));
     size_t vertex_count = 0;
     for (uint32_t s = 0; s < scene->surface_count; s++)
-        vertex_count += surface_vertices(&scene->surfaces[s]);
+        vertex_count += hemicube_surface_vertices(&scene->surfaces[s]);
     g->vertices = calloc(at_least_one(vertex_count), sizeof(*g->vertices));
     if (!g->surfaces || !g->elements || !g->vertices) {
         geometry_free(g);
@@ -101,7 +99,7 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
          * static_vertex_count vertices shows the static set C alone (the
          * cross method's back hemicubes, thesis 4.5.2); in clusters the
          * cull pass can leave out (hemicube_clusters.h). */
-        uint32_t nv = surface_vertices(sf);
+        uint32_t nv = hemicube_surface_vertices(sf);
         size_t at = layout->first_vertex[s];
         for (uint32_t k = 0; k < nv; k++) {
             const element *el = &scene->elements[sf->first_element + ci[tri[k]]];
@@ -273,7 +271,7 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
     out->element_count = scene->element_count;
     out->material_count = scene->material_count;
     for (uint32_t k = 0; k < scene->surface_count; k++) {
-        uint32_t n = surface_vertices(&scene->surfaces[k]);
+        uint32_t n = hemicube_surface_vertices(&scene->surfaces[k]);
         out->vertex_count += n;
         out->static_vertex_count += scene->objects[scene->surfaces[k].object].dynamic ? 0 : n;
     }

@@ -157,9 +157,6 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
             .count_word = offsetof(struct select_status, shooter_count) / 4,
             .instances = multiview ? 1 : 0,
             .instance_word = offsetof(struct select_status, draw_instance_count) / 4,
-            /* Past the origin's hair (hemicube.h) and float rounding of
-             * the bounds. */
-            .margin = 4 * HEMICUBE_HAIR_FRACTION * gs->diameter,
         };
     }
     /* Three timed passes per shot in one command buffer. */
@@ -233,7 +230,8 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
                    VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
     gpu_timer_begin(s->timer, cmd, "hemicube");
     if (p->cull) {
-        /* The margin follows the diameter of the pose (gpu_scene_pose). */
+        /* Past the origin's hair (hemicube.h) and float rounding of the
+         * bounds, at the diameter of the pose (gpu_scene_pose). */
         p->cull_params.margin = 4 * HEMICUBE_HAIR_FRACTION * s->gs.diameter;
         hemicube_cull_record(p->cull, cmd, &p->cull_params);
         gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
