@@ -63,9 +63,12 @@ void main()
         gpu_shooter f = frames[pc.first + h];
         seen = seen_from(c, f.pos_area.xyz, normalize(f.normal.xyz));
     }
-    // VkDrawIndirectCommand: vertexCount, instanceCount, firstVertex, firstInstance.
-    commands[4 * k + 0] = seen ? c.vertex_count : 0u;
-    commands[4 * k + 1] = pc.instances != 0u ? pc.instances : status[pc.instance_word];
-    commands[4 * k + 2] = c.first_vertex;
-    commands[4 * k + 3] = 0u;
+    // VkDrawIndexedIndirectCommand: indexCount, instanceCount, firstIndex,
+    // vertexOffset, firstInstance. firstIndex stays where the cluster is
+    // culled: the hemicube pass reads the draw's first triangle from it.
+    commands[5 * k + 0] = seen ? c.index_count : 0u;
+    commands[5 * k + 1] = pc.instances != 0u ? pc.instances : status[pc.instance_word];
+    commands[5 * k + 2] = c.first_index;
+    commands[5 * k + 3] = 0u;
+    commands[5 * k + 4] = 0u;
 }

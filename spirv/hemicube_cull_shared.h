@@ -11,12 +11,12 @@
 #define CULL_BINDING_CLUSTERS 0 /* struct gpu_cluster[] */
 #define CULL_BINDING_FRAMES 1   /* struct gpu_shooter[]: the hemicubes' frames */
 #define CULL_BINDING_STATUS 2   /* uint[]: the shot's hemicube count at count_word */
-#define CULL_BINDING_COMMANDS 3 /* VkDrawIndirectCommand[]: one per cluster, written */
+#define CULL_BINDING_COMMANDS 3 /* VkDrawIndexedIndirectCommand[]: one per cluster, written */
 
 #define CULL_GROUP 64u
 
-/* A run of hemicube vertices (whole surfaces of one object, gpu_scene.h)
- * and its bounds at the pose the vertices hold, world space. */
+/* A run of hemicube triangles (whole surfaces of one object, gpu_scene.h)
+ * and its bounds at the pose the positions hold, world space. */
 struct gpu_cluster {
     vec4 center;     /* xyz: centre of the bounding box; w: its half diagonal (m) */
     vec4 half_size;  /* xyz: half the box's size; w: the normal cone's half-angle (rad), or
@@ -24,7 +24,7 @@ struct gpu_cluster {
     vec4 cone_axis;  /* xyz: unit mean direction of the triangles' front normals */
     vec4 object_lo;  /* the closed mesh's box: an origin in it skips the cone test */
     vec4 object_hi;
-    uint first_vertex, vertex_count, pad0, pad1;
+    uint first_index, index_count, pad0, pad1; /* its indices: 3 per triangle */
 };
 
 struct cull_push {

@@ -1,7 +1,8 @@
 #version 450
 // Radiosity hemicube, fragment stage: B of the visible surface point, from
-// the atlas at the interpolated element-texel coordinate, times the pass's
-// scale; back sides are black. The coordinate is clamped to the surface's
+// the atlas at its element-texel coordinate (the triangle's corner values,
+// hemicube_shared.h, at the point's barycentric coordinates), times the
+// pass's scale; back sides are black. The coordinate is clamped to the surface's
 // tile so that no texel of a neighbouring tile is read.
 //
 // CELLS (gather, hemicube_desc.cells): the value of the element whose cell
@@ -31,12 +32,15 @@ layout(constant_id = 1) const uint CELLS = 0u;
 
 layout(push_constant) uniform Push { hemicube_push pc; };
 layout(binding = HEMICUBE_BINDING_ATLAS) uniform sampler2D atlas;
+layout(std430, binding = HEMICUBE_BINDING_TRIANGLES) readonly buffer Triangles {
+    gpu_hemicube_triangle triangles[];
+};
+layout(std430, binding = HEMICUBE_BINDING_POSITIONS) readonly buffer Positions { float positions[]; };
+layout(std430, binding = HEMICUBE_BINDING_INDICES) readonly buffer Indices { uint indices[]; };
 
-layout(location = 0) flat in uint id; // unused: the ID variant writes it
-layout(location = 1) centroid in vec3 uvw; // (u w, v, w): gpu_scene.h
-layout(location = 2) flat in vec4 tile;
-layout(location = 3) flat in float front;
-layout(location = 4) in vec3 rel;
+layout(location = 0) flat in uint first_triangle;
+layout(location = 1) flat in vec3 origin;
+layout(location = 2) centroid in vec3 rel;
 
 layout(location = 0) out vec4 color;
 
@@ -53,8 +57,26 @@ vec4 round_to_half(vec4 v)
     return uintBitsToFloat(b & ~0x1fffu);
 }
 
+vec3 position(uint i) { return vec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]); }
+
 void main()
 {
+    // The triangle's corners, and the point's barycentric coordinates in
+    // it: what interpolating per-corner values would give, from vertices
+    // the triangles share.
+    uint k = first_triangle + uint(gl_PrimitiveID);
+    gpu_hemicube_triangle tri = triangles[k];
+    vec3 p0 = position(indices[3u * k]);
+    vec3 e1 = position(indices[3u * k + 1u]) - p0, e2 = position(indices[3u * k + 2u]) - p0;
+    vec3 n = cross(e1, e2);
+    vec3 d = rel - (p0 - origin);
+    float nn = max(dot(n, n), 1e-37);
+    float b1 = dot(cross(d, e2), n) / nn, b2 = dot(cross(e1, d), n) / nn;
+    vec3 uvw = tri.uvw[0].xyz + b1 * (tri.uvw[1].xyz - tri.uvw[0].xyz) +
+               b2 * (tri.uvw[2].xyz - tri.uvw[0].xyz);
+    vec4 tile = tri.tile;
+    // Surfaces emit and reflect on their front side only (scene.h).
+    float front = tri.sign * dot(n, origin - p0) > 0.0 ? 1.0 : 0.0;
     // u is undefined at a triangle's apex (w = 0): any u of the apex row.
     vec2 uv = vec2(uvw.z > 0.0 ? uvw.x / uvw.z : tile.x, uvw.y);
     vec2 p = clamp(uv, tile.xy, tile.zw);

@@ -2,9 +2,11 @@
 // (src/passes/hemicube.c): hemicube_multiview.vert defines
 // HEMICUBE_MULTIVIEW (gl_ViewIndex is the face, one render pass instance per
 // hemicube), hemicube_layered.vert does not (instance = hemicube * 5 + face,
-// written to gl_Layer). Whole surfaces are drawn (two triangles each); the
-// frame of each hemicube comes from the frames buffer (z = normal, x =
-// tangent, y = z x x, as spirv/hemicube.glsl expects).
+// written to gl_Layer). Indexed triangles whose vertices are positions
+// alone (hemicube_shared.h); the frame of each hemicube comes from the
+// frames buffer (z = normal, x = tangent, y = z x x, as spirv/hemicube.glsl
+// expects).
+#extension GL_ARB_shader_draw_parameters : require
 #include "radiosity.h"
 #include "hemicube_shared.h"
 #include "hemicube.glsl"
@@ -12,18 +14,15 @@
 layout(push_constant) uniform Push { hemicube_push pc; };
 layout(std430, binding = HEMICUBE_BINDING_FRAMES) readonly buffer Frames { gpu_shooter frames[]; };
 layout(std430, binding = HEMICUBE_BINDING_COUNTS) readonly buffer Counts { uint counts[]; };
+layout(std430, binding = HEMICUBE_BINDING_COMMANDS) readonly buffer Commands { uint commands[]; };
 
 layout(location = HEMICUBE_ATTR_POS) in vec3 in_pos;
-layout(location = HEMICUBE_ATTR_SURFACE) in uint in_surface;
-layout(location = HEMICUBE_ATTR_UV) in vec3 in_uvw; // (u w, v, w): gpu_scene.h
-layout(location = HEMICUBE_ATTR_TILE) in vec4 in_tile;
-layout(location = HEMICUBE_ATTR_NORMAL) in vec4 in_normal;
 
-layout(location = 0) flat out uint id;
-layout(location = 1) centroid out vec3 uvw;
-layout(location = 2) flat out vec4 tile;
-layout(location = 3) flat out float front;
-layout(location = 4) out vec3 rel; // from the origin, m: the radiosity variant's distance
+// Flat values are the same at every vertex of a draw instance, so the
+// provoking vertex's are everyone's, shared vertices or not.
+layout(location = 0) flat out uint first_triangle; // + gl_PrimitiveID: the triangle
+layout(location = 1) flat out vec3 origin;         // m, world: the hemicube's (moved) origin
+layout(location = 2) centroid out vec3 rel;        // m: the point from the origin
 
 void main()
 {
@@ -52,10 +51,9 @@ void main()
     // A dead hemicube (beyond the indirect count) puts every vertex behind
     // the eye: everything is clipped.
     gl_Position = live ? hemicube_clip(local, face, pc.near) : vec4(0.0, 0.0, 0.0, -1.0);
-    id = in_surface + 1u;
-    uvw = in_uvw;
-    tile = in_tile;
-    // Surfaces emit and reflect on their front side only (scene.h).
-    front = dot(in_normal.xyz, o - in_pos) > 0.0 ? 1.0 : 0.0;
+    first_triangle = pc.commands != 0u
+                         ? commands[HEMICUBE_COMMAND_WORDS * (pc.command_base + uint(gl_DrawIDARB)) + 2u] / 3u
+                         : pc.first_triangle;
+    origin = o;
     rel = d;
 }

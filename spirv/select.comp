@@ -131,9 +131,10 @@ void main()
         bool done = status.converged != 0u || s == SELECT_NONE || !(p > pc.threshold * max_power);
         uvec2 k = done ? uvec2(0u) : patch_counts(surfaces[s], p, max_power);
         uint count = k.x * k.y;
-        status.draw_vertex_count = pc.draw_vertex_count;
+        status.draw_index_count = pc.draw_index_count;
         status.draw_instance_count = count * pc.instances_per_hemicube;
-        status.draw_first_vertex = 0u;
+        status.draw_first_index = 0u;
+        status.draw_vertex_offset = 0u;
         status.draw_first_instance = 0u;
         status.dispatch_x = count > 0u ? (pc.element_count + pc.reconstruct_group - 1u) / pc.reconstruct_group : 0u;
         status.dispatch_y = 1u;

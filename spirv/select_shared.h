@@ -26,9 +26,11 @@
  * pass (dispatch, shooter_count) and, once per batch, by the host.
  * The host zeroes it before the first shot of a solve. */
 struct select_status {
-    /* VkDrawIndirectCommand of the ID hemicube draw: vertex_count from the
-     * push constants, instance_count = shooter_count x instances_per_hemicube. */
-    uint draw_vertex_count, draw_instance_count, draw_first_vertex, draw_first_instance;
+    /* VkDrawIndexedIndirectCommand of the ID hemicube draw: index_count from
+     * the push constants, instance_count = shooter_count x
+     * instances_per_hemicube. */
+    uint draw_index_count, draw_instance_count, draw_first_index, draw_vertex_offset,
+        draw_first_instance;
     /* VkDispatchIndirectCommand of the reconstruct pass (x = 0 when there is
      * nothing to shoot), then the shooters of this shot. */
     uint dispatch_x, dispatch_y, dispatch_z, shooter_count;
@@ -40,7 +42,7 @@ struct select_status {
     float pad0, pad1;
     uint selections; /* shots that shot something, this solve */
     uint patches;    /* shooting patches (= ID hemicubes) shot, this solve */
-    uint pad2, pad3;
+    uint pad2;
 };
 
 struct select_push {
@@ -48,7 +50,7 @@ struct select_push {
     uint element_count;
     uint max_patches;   /* most patches along a side (thesis 4.3.3) */
     uint max_shooters;  /* room in the shooter table and the hemicube image */
-    uint draw_vertex_count;
+    uint draw_index_count;
     uint instances_per_hemicube;
     uint seed;          /* hemicube rotations (thesis 4.2) */
     uint reconstruct_group; /* workgroup size of the reconstruct dispatch */

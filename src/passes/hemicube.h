@@ -1,6 +1,6 @@
 /*
  * Hemicube render pass (DESIGN.md "GPU passes"; thesis 2.2.2, 4.2, 4.3):
- * draws the scene (whole surfaces, gpu_scene vertices) into the 5 used faces
+ * draws the scene (whole surfaces, gpu_scene's indexed triangles) into the 5 used faces
  * of many hemicubes per recording, into one 2D-array image with layer =
  * hemicube * 5 + face. Faces, axes, clip positions and pixel lookup follow
  * src/passes/hemicube_geometry.h and spirv/hemicube.glsl. The frame of
@@ -153,13 +153,26 @@ VkImageView hemicube_ids_view(const hemicube_pass *pass);
 uint32_t hemicube_res(const hemicube_pass *pass);
 uint32_t hemicube_max(const hemicube_pass *pass);
 
+/* The indexed triangles a hemicube draws (spirv/hemicube_shared.h). */
+typedef struct hemicube_mesh {
+    const gpu_buffer *positions; /* float[3] per vertex, world: VERTEX and STORAGE usage */
+    const gpu_buffer *indices;   /* uint32_t, 3 per triangle: INDEX and STORAGE usage */
+    const gpu_buffer *triangles; /* struct gpu_hemicube_triangle per triangle, STORAGE */
+} hemicube_mesh;
+
+/* A scene's, at the pose its positions hold. */
+static inline hemicube_mesh hemicube_scene_mesh(const gpu_scene *gs)
+{
+    return (hemicube_mesh){&gs->positions, &gs->indices, &gs->triangles};
+}
+
 typedef struct hemicube_draw {
-    const gpu_buffer *vertices; /* gpu_scene_vertex[vertex_count] */
-    uint32_t vertex_count;
+    hemicube_mesh mesh;
+    uint32_t index_count; /* without commands: indices [0, index_count) (whole triangles) */
     const gpu_buffer *frames;   /* struct gpu_shooter[], STORAGE usage */
     uint32_t first;             /* frame of hemicube 0 */
     /* Either the host's count (indirect NULL; at most max_hemicubes) or a
-     * VkDrawIndirectCommand at `indirect_offset` (a multiple of 4) of
+     * VkDrawIndexedIndirectCommand at `indirect_offset` (a multiple of 4) of
      * `indirect` (INDIRECT and STORAGE usage), whose instanceCount is
      * hemicubes x hemicube_instances_per_hemicube, at most max_hemicubes. */
     uint32_t count;
@@ -167,10 +180,11 @@ typedef struct hemicube_draw {
     VkDeviceSize indirect_offset;
     const gpu_image *atlas; /* radiosity: RGBA32F, in VK_IMAGE_LAYOUT_GENERAL */
     float scale;            /* radiosity: image = B x scale; 0 means 1 */
-    /* Instead of one draw of vertex_count vertices: command_count
-     * VkDrawIndirectCommands from offset 0 of `commands` (INDIRECT usage;
-     * the cull pass's, passes/hemicube_cull.h), each with the instance
-     * count the path needs (layered: hemicubes x 5, multiview: 1). */
+    /* Instead of one draw of index_count indices: command_count
+     * VkDrawIndexedIndirectCommands from offset 0 of `commands` (INDIRECT
+     * and STORAGE usage; the cull pass's, passes/hemicube_cull.h), each
+     * with the instance count the path needs (layered: hemicubes x 5,
+     * multiview: 1). */
     const gpu_buffer *commands;
     uint32_t command_count;
 } hemicube_draw;
@@ -185,7 +199,7 @@ void hemicube_record(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_dr
 /* The ID variant of a scene with the indirect count at `indirect_offset`
  * of `indirect`: what the progressive solver records per shot. With
  * `commands` (else NULL), the cull pass's `count` commands instead of one
- * draw of every vertex. */
+ * draw of every triangle. */
 void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
                          const gpu_buffer *frames, const gpu_buffer *indirect,
                          VkDeviceSize indirect_offset, const gpu_buffer *commands,

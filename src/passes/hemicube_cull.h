@@ -1,8 +1,9 @@
 /*
  * Hemicube cull pass (issue 15: the hemicube's cost is its vertex work):
  * one compute dispatch per shot that turns the scene's clusters of
- * hemicube vertices (gpu_scene.h: runs of whole surfaces of one object,
- * laid out near to near, with their bounds) into one indirect draw each,
+ * hemicube triangles (gpu_scene.h: runs of whole surfaces of one object,
+ * laid out near to near, with their bounds) into one indexed indirect
+ * draw each,
  * emptied where none of the shot's hemicubes can see the cluster: its box
  * lies behind every hemicube's base, or it is the outside of a closed mesh
  * and faces away from every origin (spirv/hemicube_cull.comp says why the
@@ -26,7 +27,7 @@ typedef struct hemicube_cull_buffers {
     const gpu_buffer *clusters; /* struct gpu_cluster[] (gpu_scene.clusters) */
     const gpu_buffer *frames;   /* struct gpu_shooter[]: the hemicubes' frames */
     const gpu_buffer *status;   /* the uints holding the hemicube count (and instanceCount) */
-    const gpu_buffer *commands; /* VkDrawIndirectCommand[cluster_count], INDIRECT | STORAGE */
+    const gpu_buffer *commands; /* VkDrawIndexedIndirectCommand[cluster_count], INDIRECT | STORAGE */
 } hemicube_cull_buffers;
 
 typedef struct hemicube_cull_params {

@@ -108,7 +108,7 @@ void select_record(select_pass *p, VkCommandBuffer cmd, const select_params *par
         .element_count = params->element_count,
         .max_patches = params->max_patches ? params->max_patches : 1,
         .max_shooters = params->max_shooters ? params->max_shooters : 1,
-        .draw_vertex_count = params->draw_vertex_count,
+        .draw_index_count = params->draw_index_count,
         .instances_per_hemicube = params->instances_per_hemicube,
         .seed = params->seed,
         .reconstruct_group = params->reconstruct_group ? params->reconstruct_group : 1,

@@ -49,7 +49,7 @@ typedef struct select_params {
     uint32_t element_count;
     uint32_t max_patches;  /* >= 1 */
     uint32_t max_shooters; /* >= 1, entries in the shooter table */
-    uint32_t draw_vertex_count;      /* copied into the indirect draw */
+    uint32_t draw_index_count;       /* copied into the indexed indirect draw */
     uint32_t instances_per_hemicube; /* draw instances per shooter */
     uint32_t reconstruct_group;      /* workgroup size of the indirect dispatch */
     uint32_t seed;                   /* hemicube rotations */

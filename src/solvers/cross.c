@@ -181,8 +181,8 @@ static xrad_status create_lights(xrad_solver *s, cross *c, xrad_error *err)
         (st = gpu_cmd_begin(ctx, &cmd, err)))
         goto done;
     hemicube_record(c->light_ids_c, cmd.cmd,
-                    &(hemicube_draw){.vertices = &gs->vertices,
-                                     .vertex_count = gs->static_vertex_count,
+                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                                     .index_count = gs->static_index_count,
                                      .frames = &c->light_frames, .count = L});
     st = solver_submit_wait(s, &cmd, err);
 done:
@@ -366,26 +366,26 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.hemicube");
     hemicube_record(c->ids, cmd,
-                    &(hemicube_draw){.vertices = &gs->vertices, .vertex_count = gs->vertex_count,
+                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs), .index_count = gs->index_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_FRONT), .count = P});
     if (c->L)
         hemicube_record(c->light_ids, cmd,
-                        &(hemicube_draw){.vertices = &gs->vertices,
-                                         .vertex_count = gs->vertex_count,
+                        &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                                         .index_count = gs->index_count,
                                          .frames = &c->light_frames, .count = c->L});
     gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.back");
     hemicube_record(c->back, cmd,
-                    &(hemicube_draw){.vertices = &gs->vertices,
-                                     .vertex_count = gs->static_vertex_count,
+                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                                     .index_count = gs->static_index_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_BACK), .count = P,
                                      .atlas = &gs->atlas, .scale = (float)c->scale});
     gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.gather");
     hemicube_record(c->gather, cmd,
-                    &(hemicube_draw){.vertices = &gs->vertices, .vertex_count = gs->vertex_count,
+                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs), .index_count = gs->index_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_GATHER), .count = P,
                                      .atlas = &gs->atlas, .scale = (float)c->scale});

@@ -372,8 +372,8 @@ static xrad_status bounce(xrad_solver *s, gather *g, float scale, xrad_error *er
         while (first < end) {
             uint32_t count = end - first < g->batch ? end - first : g->batch;
             hemicube_draw hd = {
-                .vertices = &s->gs.vertices,
-                .vertex_count = s->gs.vertex_count,
+                .mesh = hemicube_scene_mesh(&s->gs),
+                .index_count = s->gs.index_count,
                 .frames = &g->frames,
                 .first = first,
                 .count = count,

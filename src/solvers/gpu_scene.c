@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "gpu/cmd.h"
 #include "gpu/context.h"
+#include "hemicube_shared.h"
 #include "radiosity.h"
 #include "solvers/hemicube_clusters.h"
 
@@ -14,21 +15,21 @@
 typedef struct geometry {
     struct gpu_surface *surfaces;
     struct gpu_element *elements;
-    gpu_scene_vertex *vertices;
+    float *positions; /* 3 per hemicube vertex */
 } geometry;
 
 static void geometry_free(geometry *g)
 {
     free(g->surfaces);
     free(g->elements);
-    free(g->vertices);
+    free(g->positions);
     memset(g, 0, sizeof(*g));
 }
 
 /* Buffers cannot be empty; a scene without surfaces still gets one entry. */
 static size_t at_least_one(size_t n) { return n ? n : 1; }
 
-/* The host tables at `time`; the hemicube vertices in `layout`'s order. */
+/* The host tables at `time`; the hemicube vertices' positions. */
 static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_patches,
                                  const hemicube_clusters *layout, double time, geometry *g,
                                  double *diameter, xrad_error *err)
@@ -36,18 +37,13 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
     memset(g, 0, sizeof(*g));
     g->surfaces = calloc(at_least_one(scene->surface_count), sizeof(*g->surfaces));
     g->elements = calloc(at_least_one(scene->element_count), sizeof(*g->elements));
-    size_t vertex_count = 0;
-    for (uint32_t s = 0; s < scene->surface_count; s++)
-        vertex_count += hemicube_surface_vertices(&scene->surfaces[s]);
-    g->vertices = calloc(at_least_one(vertex_count), sizeof(*g->vertices));
-    if (!g->surfaces || !g->elements || !g->vertices) {
+    g->positions = calloc(3 * at_least_one(layout->vertex_count), sizeof(*g->positions));
+    if (!g->surfaces || !g->elements || !g->positions) {
         geometry_free(g);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for the GPU scene",
                          scene->path);
     }
     vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
-    double inv_w = 1.0 / (scene->atlas_width ? scene->atlas_width : 1);
-    double inv_h = 1.0 / (scene->atlas_height ? scene->atlas_height : 1);
     for (uint32_t s = 0; s < scene->surface_count; s++) {
         const surface *sf = &scene->surfaces[s];
         xform pose = scene_object_pose(scene, sf->object, time);
@@ -85,6 +81,34 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
             ge->texel_y = el->texel_y;
         }
 
+        /* Corners of one object at one model position are one vertex
+         * (hemicube_clusters.h), and pose to the same floats. */
+        for (int k = 0; k < 4; k++) {
+            float *v = &g->positions[3 * (size_t)layout->corner_vertex[4 * s + k]];
+            v[0] = (float)c[k].x;
+            v[1] = (float)c[k].y;
+            v[2] = (float)c[k].z;
+        }
+    }
+    *diameter = scene->surface_count ? v3_len(v3_sub(hi, lo)) : 0;
+    return XRAD_OK;
+}
+
+/* What the hemicubes' fragments need of each triangle (hemicube_shared.h),
+ * the same at every pose. */
+static xrad_status upload_triangles(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err)
+{
+    const xrad_scene *scene = gs->scene;
+    const hemicube_clusters *layout = &gs->layout;
+    size_t nt = at_least_one(layout->index_count / 3);
+    struct gpu_hemicube_triangle *t = calloc(nt, sizeof *t);
+    if (!t)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for the GPU scene",
+                         scene->path);
+    double inv_w = 1.0 / (scene->atlas_width ? scene->atlas_width : 1);
+    double inv_h = 1.0 / (scene->atlas_height ? scene->atlas_height : 1);
+    for (uint32_t s = 0; s < scene->surface_count; s++) {
+        const surface *sf = &scene->surfaces[s];
         /* Corners p0..p3 carry the element samples (0, 0), (nu-1, 0),
          * (nu-1, nv-1), (0, nv-1): the outer texel centres lie on the
          * surface edges (thesis 4.1), so interpolating uv across the quad
@@ -92,35 +116,33 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
         uint32_t ci[4] = {0, sf->nu - 1, sf->nv * sf->nu - 1, (sf->nv - 1) * sf->nu};
         const element *e0 = &scene->elements[sf->first_element];
         const element *e1 = &scene->elements[sf->first_element + ci[2]];
-        float tile[4] = {(float)((e0->texel_x + 0.5) * inv_w), (float)((e0->texel_y + 0.5) * inv_h),
-                         (float)((e1->texel_x + 0.5) * inv_w), (float)((e1->texel_y + 0.5) * inv_h)};
-        static const int tri[6] = {0, 1, 2, 0, 2, 3};
-        /* Static surfaces first, so that a draw of the first
-         * static_vertex_count vertices shows the static set C alone (the
-         * cross method's back hemicubes, thesis 4.5.2); in clusters the
-         * cull pass can leave out (hemicube_clusters.h). */
-        uint32_t nv = hemicube_surface_vertices(sf);
-        size_t at = layout->first_vertex[s];
-        for (uint32_t k = 0; k < nv; k++) {
-            const element *el = &scene->elements[sf->first_element + ci[tri[k]]];
-            gpu_scene_vertex *v = &g->vertices[at + k];
-            v->pos[0] = (float)c[tri[k]].x;
-            v->pos[1] = (float)c[tri[k]].y;
-            v->pos[2] = (float)c[tri[k]].z;
-            v->surface = s;
-            /* A triangle's apex is corners 2 and 3 (scene.h). */
-            float w = sf->triangle && tri[k] >= 2 ? 0.0f : 1.0f;
-            v->uvw[0] = (float)((el->texel_x + 0.5) * inv_w) * w;
-            v->uvw[1] = (float)((el->texel_y + 0.5) * inv_h);
-            v->uvw[2] = w;
-            memcpy(v->tile, tile, sizeof(tile));
-            v->normal[0] = (float)n.x;
-            v->normal[1] = (float)n.y;
-            v->normal[2] = (float)n.z;
+        vec4 tile = {(float)((e0->texel_x + 0.5) * inv_w), (float)((e0->texel_y + 0.5) * inv_h),
+                     (float)((e1->texel_x + 0.5) * inv_w), (float)((e1->texel_y + 0.5) * inv_h)};
+        for (uint32_t k = 0; k < hemicube_surface_triangles(sf); k++) {
+            struct gpu_hemicube_triangle *tr = &t[layout->first_index[s] / 3 + k];
+            vec3 p[3];
+            for (int i = 0; i < 3; i++) {
+                int corner = hemicube_triangle_corner(k, i);
+                const element *el = &scene->elements[sf->first_element + ci[corner]];
+                /* A triangle's apex is corners 2 and 3 (scene.h). */
+                float w = sf->triangle && corner >= 2 ? 0.0f : 1.0f;
+                tr->uvw[i] = (vec4){(float)((el->texel_x + 0.5) * inv_w) * w,
+                                    (float)((el->texel_y + 0.5) * inv_h), w, 0};
+                p[i] = sf->p[corner];
+            }
+            /* Rigid poses keep the winding's side. */
+            vec3 n = v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
+            tr->tile = tile;
+            tr->surface = s;
+            tr->sign = v3_dot(n, sf->normal) < 0 ? -1.0f : 1.0f;
         }
     }
-    *diameter = scene->surface_count ? v3_len(v3_sub(hi, lo)) : 0;
-    return XRAD_OK;
+    xrad_status st = gpu_upload_buffer(ctx, &gs->triangles, 0, t, nt * sizeof *t, err);
+    if (!st)
+        st = gpu_upload_buffer(ctx, &gs->indices, 0, layout->indices,
+                               at_least_one(layout->index_count) * sizeof(uint32_t), err);
+    free(t);
+    return st;
 }
 
 /* Marks buried elements (scene_find_buried, the enclosed ones of
@@ -174,8 +196,8 @@ static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, doub
                                 at_least_one(gs->surface_count) * sizeof(*g.surfaces), err)) &&
         !(s = gpu_upload_buffer(ctx, &gs->elements, 0, g.elements,
                                 at_least_one(gs->element_count) * sizeof(*g.elements), err)) &&
-        !(s = gpu_upload_buffer(ctx, &gs->vertices, 0, g.vertices,
-                                at_least_one(gs->vertex_count) * sizeof(*g.vertices), err)) &&
+        !(s = gpu_upload_buffer(ctx, &gs->positions, 0, g.positions,
+                                3 * at_least_one(gs->vertex_count) * sizeof(float), err)) &&
         !(s = gpu_upload_buffer(ctx, &gs->clusters, 0, clusters,
                                 at_least_one(gs->cluster_count) * sizeof(*clusters), err))) {
         gs->time = time;
@@ -270,19 +292,23 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
     out->surface_count = scene->surface_count;
     out->element_count = scene->element_count;
     out->material_count = scene->material_count;
-    for (uint32_t k = 0; k < scene->surface_count; k++) {
-        uint32_t n = hemicube_surface_vertices(&scene->surfaces[k]);
-        out->vertex_count += n;
-        out->static_vertex_count += scene->objects[scene->surfaces[k].object].dynamic ? 0 : n;
-    }
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     size_t ns = at_least_one(scene->surface_count), ne = at_least_one(scene->element_count);
-    size_t nm = at_least_one(scene->material_count), nv = at_least_one(out->vertex_count);
+    size_t nm = at_least_one(scene->material_count);
+    /* Before the layout is built (a vertex per corner at most). */
+    size_t nv = 0, ni = 0;
+    for (uint32_t k = 0; k < scene->surface_count; k++) {
+        nv += scene->surfaces[k].triangle ? 3 : 4;
+        ni += 3 * hemicube_surface_triangles(&scene->surfaces[k]);
+    }
+    nv = at_least_one(nv);
+    ni = at_least_one(ni);
     uint64_t need = ns * sizeof(struct gpu_surface) + ne * sizeof(struct gpu_element) +
                     nm * sizeof(struct gpu_material) + 2 * ne * sizeof(vec4) +
-                    nv * sizeof(gpu_scene_vertex) +
+                    nv * 3 * sizeof(float) + ni * sizeof(uint32_t) +
+                    ni / 3 * sizeof(struct gpu_hemicube_triangle) +
                     (uint64_t)at_least_one(scene->atlas_width) *
                         at_least_one(scene->atlas_height) * 16;
     gpu_image_desc ad = gpu_scene_atlas_desc(scene);
@@ -302,6 +328,10 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
     }
     out->cluster_count = out->layout.count;
     out->static_cluster_count = out->layout.static_count;
+    out->vertex_count = out->layout.vertex_count;
+    out->index_count = out->layout.index_count;
+    out->static_index_count = out->layout.static_index_count;
+    nv = at_least_one(out->vertex_count);
     if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "scene data", err)) ||
         (s = gpu_buffer_create(ctx, ns * sizeof(struct gpu_surface), storage, GPU_MEM_DEVICE,
                                GPU_MEM_GEOMETRY, &out->surfaces, err)) ||
@@ -313,13 +343,19 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                                GPU_MEM_RADIOSITY, &out->B, err)) ||
         (s = gpu_buffer_create(ctx, ne * sizeof(vec4), storage, GPU_MEM_DEVICE,
                                GPU_MEM_RADIOSITY, &out->Bu, err)) ||
-        (s = gpu_buffer_create(ctx, nv * sizeof(gpu_scene_vertex),
+        (s = gpu_buffer_create(ctx, nv * 3 * sizeof(float),
                                storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, GPU_MEM_DEVICE,
-                               GPU_MEM_GEOMETRY, &out->vertices, err)) ||
+                               GPU_MEM_GEOMETRY, &out->positions, err)) ||
+        (s = gpu_buffer_create(ctx, ni * sizeof(uint32_t),
+                               storage | VK_BUFFER_USAGE_INDEX_BUFFER_BIT, GPU_MEM_DEVICE,
+                               GPU_MEM_GEOMETRY, &out->indices, err)) ||
+        (s = gpu_buffer_create(ctx, ni / 3 * sizeof(struct gpu_hemicube_triangle), storage,
+                               GPU_MEM_DEVICE, GPU_MEM_GEOMETRY, &out->triangles, err)) ||
         (s = gpu_buffer_create(ctx, at_least_one(out->cluster_count) * sizeof(struct gpu_cluster),
                                storage, GPU_MEM_DEVICE, GPU_MEM_GEOMETRY, &out->clusters, err)) ||
         (s = gpu_image_create(ctx, &ad, &out->atlas, err)) ||
-        (s = upload_geometry(ctx, out, time, err)) || (s = upload_materials(ctx, out, err)) ||
+        (s = upload_triangles(ctx, out, err)) || (s = upload_geometry(ctx, out, time, err)) ||
+        (s = upload_materials(ctx, out, err)) ||
         (s = gpu_scene_reset(ctx, out, false, err)) || (s = init_atlas(ctx, out, err))) {
         gpu_scene_destroy(ctx, out);
         xrad_error_prefix(err, "GPU scene");
@@ -350,7 +386,9 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
     free(gs->enclosed);
     free(gs->enclosed_m);
     gpu_image_destroy(ctx, &gs->atlas);
-    gpu_buffer_destroy(ctx, &gs->vertices);
+    gpu_buffer_destroy(ctx, &gs->positions);
+    gpu_buffer_destroy(ctx, &gs->indices);
+    gpu_buffer_destroy(ctx, &gs->triangles);
     gpu_buffer_destroy(ctx, &gs->clusters);
     hemicube_clusters_free(&gs->layout);
     gpu_buffer_destroy(ctx, &gs->Bu);

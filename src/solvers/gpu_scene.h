@@ -2,9 +2,10 @@
  * The scene on the GPU, as every radiosity solver's passes see it: the
  * buffers of spirv/radiosity.h (surfaces, elements, materials at the current
  * pose), total and unshot radiosity B and Bu per element (fp32, DESIGN.md
- * "Data model"), the triangles hemicubes draw (whole surfaces, not
- * elements: vertex work is the cost on lavapipe), and the radiosity atlas
- * image the radiosity hemicubes and the display sample.
+ * "Data model"), the indexed triangles hemicubes draw (whole surfaces, not
+ * elements: vertex work is the cost on lavapipe; spirv/hemicube_shared.h),
+ * and the radiosity atlas image the radiosity hemicubes and the display
+ * sample.
  *
  * Ownership: gpu_scene_create fills a caller-owned struct; gpu_scene_destroy
  * releases what it holds. The xrad_scene must outlive it.
@@ -30,36 +31,23 @@ static inline vec4 gpu_vec4(vec3 v, double w)
 
 struct xrad_context;
 
-/* One hemicube vertex: whole surfaces, a quad as two triangles, a triangle
- * as itself. */
-typedef struct gpu_scene_vertex {
-    float pos[3];     /* m, world */
-    uint32_t surface; /* surface index; ID hemicubes write surface + 1 */
-    /* Atlas coordinate (u, v) of this corner's element texel centre as
-     * (u w, v, w): w is 1 at a quad's corners and 0 at a triangle's apex,
-     * and the fragment takes u = uvw.x / uvw.z, so that u across a
-     * triangle is the collapsed quad's s = b1 / (b0 + b1) (scene.h), not
-     * the linear b1 + b2 a plain uv would give. */
-    float uvw[3];
-    float pad;
-    float tile[4];    /* atlas coordinates of the surface tile's first and last texel
-                         centres (u0, v0, u1, v1): lookups clamp to them */
-    float normal[4];  /* world unit normal of the surface's front side, w = 0 */
-} gpu_scene_vertex;
-
 typedef struct gpu_scene {
     const xrad_scene *scene;
     double time; /* pose the buffers hold */
     uint32_t surface_count, element_count, material_count;
-    uint32_t vertex_count;     /* 6 per quad, 3 per triangle: static surfaces first, then
+    uint32_t vertex_count;     /* hemicube vertices (positions), shared by the triangles */
+    uint32_t index_count;      /* 6 per quad, 3 per triangle: static surfaces first, then
                                   dynamic ones */
-    uint32_t static_vertex_count; /* those of static surfaces (set C) */
+    uint32_t static_index_count; /* those of static surfaces (set C) */
     gpu_buffer surfaces;       /* struct gpu_surface[surface_count] */
     gpu_buffer elements;       /* struct gpu_element[element_count] */
     gpu_buffer materials;      /* struct gpu_material[material_count] */
     gpu_buffer B, Bu;          /* vec4[element_count] */
-    gpu_buffer vertices;       /* gpu_scene_vertex[vertex_count], in layout's order */
-    hemicube_clusters layout;  /* the vertices' order and clusters (hemicube_clusters.h) */
+    gpu_buffer positions;      /* float[3][vertex_count], world at `time`: VERTEX, STORAGE */
+    gpu_buffer indices;        /* uint32_t[index_count] in layout's order: INDEX, STORAGE */
+    gpu_buffer triangles;      /* struct gpu_hemicube_triangle[index_count / 3] */
+    hemicube_clusters layout;  /* the triangles' order, vertices and clusters
+                                  (hemicube_clusters.h) */
     uint32_t cluster_count, static_cluster_count;
     gpu_buffer clusters;       /* struct gpu_cluster[cluster_count] at `time` */
     gpu_image atlas;           /* RGBA32F, atlas_width x atlas_height: B by element texel,
@@ -100,7 +88,7 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
 /* Accepts a zeroed struct; zeroes it. The GPU must be done with it. */
 void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs);
 
-/* Re-uploads the geometry (surfaces, elements, vertices) posed at `time`.
+/* Re-uploads the geometry (surfaces, elements, positions) posed at `time`.
  * B and Bu are kept. The GPU must not be using those buffers. */
 xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
                            xrad_error *err);

@@ -45,10 +45,68 @@ static vec3 centroid(const surface *sf)
 void hemicube_clusters_free(hemicube_clusters *c)
 {
     free(c->order);
-    free(c->first_vertex);
+    free(c->first_index);
+    free(c->corner_vertex);
+    free(c->indices);
     free(c->start);
     free(c->closed);
     memset(c, 0, sizeof(*c));
+}
+
+/* The corners' vertices: one per object and model position, numbered in
+ * drawing order; and the indices. Open addressing over the corners. */
+static xrad_status share_vertices(const xrad_scene *scene, hemicube_clusters *c, xrad_error *err)
+{
+    uint32_t ns = scene->surface_count;
+    size_t cap = 16;
+    while (cap < 8 * (size_t)ns)
+        cap *= 2;
+    uint32_t *slot = malloc(cap * sizeof *slot);  /* vertex + 1, 0: empty */
+    uint32_t *source = malloc((4 * (size_t)ns + 1) * sizeof *source); /* vertex -> 4 s + k */
+    if (!slot || !source) {
+        free(slot);
+        free(source);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "hemicube vertices: out of host memory");
+    }
+    memset(slot, 0, cap * sizeof *slot);
+    uint32_t count = 0;
+    for (uint32_t i = 0; i < ns; i++) {
+        uint32_t s = c->order[i];
+        const surface *sf = &scene->surfaces[s];
+        for (int k = 0; k < 4; k++) {
+            vec3 p = sf->p[k];
+            uint64_t h = sf->object * 0x9e3779b97f4a7c15ull;
+            double xyz[3] = {p.x + 0.0, p.y + 0.0, p.z + 0.0}; /* -0 and 0 alike */
+            for (int a = 0; a < 3; a++) {
+                uint64_t b;
+                memcpy(&b, &xyz[a], sizeof b);
+                h = (h ^ b) * 0x100000001b3ull;
+                h ^= h >> 29;
+            }
+            size_t at = h & (cap - 1);
+            for (;; at = (at + 1) & (cap - 1)) {
+                if (!slot[at]) {
+                    source[count] = 4 * s + (uint32_t)k;
+                    slot[at] = ++count;
+                    break;
+                }
+                uint32_t src = source[slot[at] - 1];
+                const surface *o = &scene->surfaces[src / 4];
+                vec3 q = o->p[src % 4];
+                if (o->object == sf->object && q.x == p.x && q.y == p.y && q.z == p.z)
+                    break;
+            }
+            c->corner_vertex[4 * s + k] = slot[at] - 1;
+        }
+        for (uint32_t t = 0; t < hemicube_surface_triangles(sf); t++)
+            for (int v = 0; v < 3; v++)
+                c->indices[c->first_index[s] + 3 * t + v] =
+                    c->corner_vertex[4 * s + hemicube_triangle_corner(t, v)];
+    }
+    c->vertex_count = count;
+    free(slot);
+    free(source);
+    return XRAD_OK;
 }
 
 xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *out,
@@ -59,11 +117,14 @@ xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *
     size_t sa = ns ? ns : 1;
     keyed *keys = malloc(sa * sizeof *keys);
     out->order = malloc(sa * sizeof *out->order);
-    out->first_vertex = malloc(sa * sizeof *out->first_vertex);
+    out->first_index = malloc(sa * sizeof *out->first_index);
+    out->corner_vertex = malloc(4 * sa * sizeof *out->corner_vertex);
+    out->indices = malloc(6 * sa * sizeof *out->indices);
     out->start = malloc((sa + 1) * sizeof *out->start);
     out->closed = calloc(no ? no : 1, 1);
     vec3 *lo = malloc((no ? no : 1) * sizeof *lo), *hi = malloc((no ? no : 1) * sizeof *hi);
-    if (!keys || !out->order || !out->first_vertex || !out->start || !out->closed || !lo || !hi) {
+    if (!keys || !out->order || !out->first_index || !out->corner_vertex || !out->indices ||
+        !out->start || !out->closed || !lo || !hi) {
         free(keys);
         free(lo);
         free(hi);
@@ -102,15 +163,17 @@ xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *
     free(lo);
     free(hi);
     qsort(keys, ns, sizeof *keys, by_key);
-    uint32_t vertex = 0, triangles = 0;
+    uint32_t index = 0, triangles = 0;
     for (uint32_t k = 0; k < ns; k++) {
         uint32_t s = keys[k].surface;
         const surface *sf = &scene->surfaces[s];
         out->order[k] = s;
-        out->first_vertex[s] = vertex;
-        vertex += hemicube_surface_vertices(sf);
+        out->first_index[s] = index;
+        index += 3 * hemicube_surface_triangles(sf);
+        if (!scene->objects[sf->object].dynamic)
+            out->static_index_count = index;
         /* A new cluster at a new object or a full one. */
-        uint32_t tris = hemicube_surface_vertices(sf) / 3;
+        uint32_t tris = hemicube_surface_triangles(sf);
         bool new_object = k == 0 || scene->surfaces[out->order[k - 1]].object != sf->object;
         if (new_object || triangles + tris > HEMICUBE_CLUSTER_TRIANGLES) {
             out->start[out->count++] = k;
@@ -121,7 +184,13 @@ xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *
         triangles += tris;
     }
     out->start[out->count] = ns;
+    out->index_count = index;
     free(keys);
+    xrad_status st = share_vertices(scene, out, err);
+    if (st) {
+        hemicube_clusters_free(out);
+        return st;
+    }
     /* Closed objects: every surface a face of a closed mesh facing out
      * (scene.h surface.closed). */
     for (uint32_t o = 0; o < no; o++)
@@ -139,7 +208,7 @@ void hemicube_clusters_bounds(const hemicube_clusters *c, const xrad_scene *scen
     for (uint32_t k = 0; k < c->count; k++) {
         vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
         vec3 axis = v3(0, 0, 0);
-        uint32_t vertices = 0;
+        uint32_t triangles = 0;
         for (uint32_t i = c->start[k]; i < c->start[k + 1]; i++) {
             uint32_t s = c->order[i];
             const struct gpu_surface *g = &surfaces[s];
@@ -150,7 +219,7 @@ void hemicube_clusters_bounds(const hemicube_clusters *c, const xrad_scene *scen
             }
             axis = v3_mad(axis, v3(g->normal_area.x, g->normal_area.y, g->normal_area.z),
                           g->normal_area.w);
-            vertices += hemicube_surface_vertices(&scene->surfaces[s]);
+            triangles += hemicube_surface_triangles(&scene->surfaces[s]);
         }
         uint32_t first = c->order[c->start[k]];
         uint32_t obj = scene->surfaces[first].object;
@@ -171,8 +240,8 @@ void hemicube_clusters_bounds(const hemicube_clusters *c, const xrad_scene *scen
             .center = {(float)centre.x, (float)centre.y, (float)centre.z, (float)v3_len(half)},
             .half_size = {(float)half.x, (float)half.y, (float)half.z, (float)theta},
             .cone_axis = {(float)axis.x, (float)axis.y, (float)axis.z, 0},
-            .first_vertex = c->first_vertex[first],
-            .vertex_count = vertices,
+            .first_index = c->first_index[first],
+            .index_count = 3 * triangles,
         };
     }
     /* Each closed object's box, over its clusters. */

@@ -1,11 +1,18 @@
 /*
- * The layout of the hemicube vertices (gpu_scene.h) in clusters the cull
- * pass can leave out (passes/hemicube_cull.h): static surfaces first (a
- * draw of the first static_vertex_count vertices shows the static set C
- * alone), object by object, and within an object along a Morton curve of
- * the surfaces' centres, so that a run of surfaces is a compact patch with
- * a narrow cone of normals; a cluster is such a run of at most
- * HEMICUBE_CLUSTER_TRIANGLES triangles (a quad counts two) of one object.
+ * The hemicubes' indexed triangle list (gpu_scene.h) and its layout in
+ * clusters the cull pass can leave out (passes/hemicube_cull.h): static
+ * surfaces first (a draw of the first static_index_count indices shows the
+ * static set C alone), object by object, and within an object along a
+ * Morton curve of the surfaces' centres, so that a run of surfaces is a
+ * compact patch with a narrow cone of normals; a cluster is such a run of
+ * at most HEMICUBE_CLUSTER_TRIANGLES triangles (a quad counts two) of one
+ * object.
+ *
+ * Vertices are shared: corners of one object at the same model position
+ * are one vertex (a mesh vertex, a box's corner), numbered in the order
+ * the triangles first use them, so that the vertices of a cluster lie
+ * together (lavapipe's vertex cache looks back over a short window of
+ * indices).
  * An object whose surfaces close up (every edge shared by exactly two of
  * them, wound opposite ways) with their fronts outside (positive volume)
  * gets normal cones: seen from outside, its back faces lie behind its
@@ -28,19 +35,30 @@
 #define HEMICUBE_CLUSTER_TRIANGLES 256u
 
 typedef struct hemicube_clusters {
-    uint32_t *order;        /* surface_count: the surfaces in vertex order */
-    uint32_t *first_vertex; /* surface_count, by surface: its first hemicube vertex */
+    uint32_t *order;        /* surface_count: the surfaces in drawing order */
+    uint32_t *first_index;  /* surface_count, by surface: its first index (3 per triangle) */
+    uint32_t *corner_vertex; /* 4 per surface: the vertex of each corner p0..p3 (scene.h) */
+    uint32_t *indices;      /* index_count: 3 per triangle, in drawing order */
+    uint32_t index_count, static_index_count;
+    uint32_t vertex_count;  /* distinct vertices */
     uint32_t *start;        /* count + 1: cluster k is order[start[k] .. start[k + 1]) */
     uint32_t count;         /* clusters */
     uint32_t static_count;  /* the first static_count clusters hold the static surfaces */
     uint8_t *closed;        /* object_count: 1 where the object is closed, fronts outside */
 } hemicube_clusters;
 
-/* Hemicube vertices of a surface: a quad's two triangles, a triangle's
- * one (its second would be the collapsed one: vertex work for nothing). */
-static inline uint32_t hemicube_surface_vertices(const surface *sf)
+/* Hemicube triangles of a surface: a quad's two, a triangle's one (its
+ * second would be the collapsed one: work for nothing). */
+static inline uint32_t hemicube_surface_triangles(const surface *sf)
 {
-    return sf->triangle ? 3 : 6;
+    return sf->triangle ? 1 : 2;
+}
+
+/* Corners of triangle k of a surface (scene.h p0..p3): 0 1 2, then 0 2 3. */
+static inline int hemicube_triangle_corner(uint32_t k, int i)
+{
+    static const int corner[2][3] = {{0, 1, 2}, {0, 2, 3}};
+    return corner[k][i];
 }
 
 xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *out,

@@ -45,7 +45,7 @@ struct progressive {
     gpu_buffer shot;     /* the shot surface's Bu by element (select.h) */
     gpu_buffer status;   /* struct select_status, host-visible: read once per batch */
     hemicube_cull_pass *cull; /* NULL: desc.cull off, or no clusters */
-    gpu_buffer commands; /* the cull pass's VkDrawIndirectCommand per cluster */
+    gpu_buffer commands; /* the cull pass's VkDrawIndexedIndirectCommand per cluster */
     hemicube_cull_params cull_params;
     uint32_t max_shooters;
     bool static_only;
@@ -142,7 +142,7 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
     bool cull = s->desc.cull == XRAD_CULL_ON ||
                 (s->desc.cull != XRAD_CULL_OFF && clusters >= XRAD_CULL_MIN_CLUSTERS);
     if (cull && clusters > 0) {
-        if ((st = gpu_buffer_create(ctx, (VkDeviceSize)clusters * sizeof(VkDrawIndirectCommand),
+        if ((st = gpu_buffer_create(ctx, (VkDeviceSize)clusters * sizeof(VkDrawIndexedIndirectCommand),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                         VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                     GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &p->commands, err)) ||
@@ -177,7 +177,7 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
         .element_count = gs->element_count,
         .max_patches = s->desc.max_patches,
         .max_shooters = p->max_shooters,
-        .draw_vertex_count = static_only ? gs->static_vertex_count : gs->vertex_count,
+        .draw_index_count = static_only ? gs->static_index_count : gs->index_count,
         .instances_per_hemicube = hemicube_instances_per_hemicube(p->hemicube),
         .reconstruct_group = reconstruct_group_size(),
         .seed = s->desc.seed,
@@ -234,12 +234,14 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
          * bounds, at the diameter of the pose (gpu_scene_pose). */
         p->cull_params.margin = 4 * HEMICUBE_HAIR_FRACTION * s->gs.diameter;
         hemicube_cull_record(p->cull, cmd, &p->cull_params);
+        /* The draws read the commands, and the vertex stage their first
+         * indices (hemicube_shared.h). */
         gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
-                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
+                           draw_reads,
+                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
     }
     hemicube_record_ids(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
-                        offsetof(struct select_status, draw_vertex_count),
+                        offsetof(struct select_status, draw_index_count),
                         p->cull ? &p->commands : NULL, p->cull_params.cluster_count);
     gpu_timer_end(s->timer, cmd);
     /* The ID hemicubes are complete before any element looks them up. */

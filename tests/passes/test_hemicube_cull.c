@@ -24,6 +24,7 @@
 #include "passes/hemicube.h"
 #include "passes/hemicube_cull.h"
 #include "passes/hemicube_geometry.h"
+#include "hemicube_shared.h"
 #include "radiosity.h"
 #include "scene/scene.h"
 #include "solvers/gpu_scene.h"
@@ -34,7 +35,7 @@
 typedef struct frame {
     const char *what;
     vec3 origin, z;
-    double max_drawn; /* the fraction of vertices the culled draw may keep */
+    double max_drawn; /* the fraction of triangles the culled draw may keep */
 } frame;
 
 static uint32_t find_surface(const xrad_scene *sc, const char *name)
@@ -69,7 +70,7 @@ static struct gpu_shooter shooter(const frame *f, uint32_t seed)
 }
 
 /* Renders hemicube `k` of the frames plainly (commands NULL) or with the
- * cull pass; reads the IDs into ids and, culled, the vertices drawn. */
+ * cull pass; reads the IDs into ids and, culled, the indices drawn. */
 static xrad_status render(xrad_context *ctx, const gpu_scene *gs, hemicube_pass *pass,
                           hemicube_cull_pass *cull, const gpu_buffer *frames,
                           const gpu_buffer *commands, uint32_t k, uint32_t *ids,
@@ -79,7 +80,7 @@ static xrad_status render(xrad_context *ctx, const gpu_scene *gs, hemicube_pass 
     xrad_status s = gpu_cmd_begin(ctx, &c, err);
     if (s)
         return s;
-    hemicube_draw d = {.vertices = &gs->vertices, .vertex_count = gs->vertex_count,
+    hemicube_draw d = {.mesh = hemicube_scene_mesh(gs), .index_count = gs->index_count,
                        .frames = frames, .first = k, .count = 1};
     if (cull) {
         hemicube_cull_record(
@@ -89,8 +90,10 @@ static xrad_status render(xrad_context *ctx, const gpu_scene *gs, hemicube_pass 
                                     .instances = hemicube_instances_per_hemicube(pass),
                                     .margin = 4 * HEMICUBE_HAIR_FRACTION * gs->diameter});
         gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_HOST_BIT,
-                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_HOST_READ_BIT);
+                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
+                               VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT |
+                               VK_ACCESS_HOST_READ_BIT);
         d.commands = commands;
         d.command_count = gs->cluster_count;
     }
@@ -111,7 +114,7 @@ static xrad_status render(xrad_context *ctx, const gpu_scene *gs, hemicube_pass 
         const uint32_t *cmds = commands->alloc.mapped;
         *drawn = 0;
         for (uint32_t q = 0; q < gs->cluster_count; q++)
-            *drawn += cmds[4 * q];
+            *drawn += cmds[HEMICUBE_COMMAND_WORDS * q];
     }
     return s;
 }
@@ -191,7 +194,7 @@ int main(void)
                                GPU_MEM_GEOMETRY, &frames, &err)) ||
         (s = gpu_buffer_create(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
                                GPU_MEM_OTHER, &status, &err)) ||
-        (s = gpu_buffer_create(ctx, (VkDeviceSize)gs.cluster_count * 16,
+        (s = gpu_buffer_create(ctx, (VkDeviceSize)gs.cluster_count * sizeof(VkDrawIndexedIndirectCommand),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                    VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                GPU_MEM_READBACK, GPU_MEM_OTHER, &commands, &err)) ||
@@ -239,14 +242,14 @@ int main(void)
             }
             not_back += !back;
         }
-        double kept = (double)drawn / gs.vertex_count;
-        fprintf(stderr, "%-20s culled draw keeps %5.1f%% of the vertices; %u of %u pixels "
+        double kept = (double)drawn / gs.index_count;
+        fprintf(stderr, "%-20s culled draw keeps %5.1f%% of the triangles; %u of %u pixels "
                 "above the base differ (%u not a closed face's back), %u below\n",
                 f[k].what, 100 * kept, differ, above, not_back, below);
         CHECK(not_back == 0 && differ <= above / 500,
               "%s: %u pixels differ from the plain draw, %u of them not a closed mesh's back",
               f[k].what, differ, not_back);
-        CHECK(kept <= f[k].max_drawn, "%s: the culled draw keeps %.1f%% of the vertices (at "
+        CHECK(kept <= f[k].max_drawn, "%s: the culled draw keeps %.1f%% of the triangles (at "
               "most %.0f%%)", f[k].what, 100 * kept, 100 * f[k].max_drawn);
     }
 done:

@@ -199,14 +199,14 @@ static void run_path(xrad_context *ctx, gpu_scene *gs, hemicube_path path, const
     for (int mode = 0; mode < 2; mode++) {
         uint32_t count = mode == 0 ? CUBES : 2;
         hemicube_draw d = {
-            .vertices = &gs->vertices,
-            .vertex_count = gs->vertex_count,
+            .mesh = hemicube_scene_mesh(gs),
+            .index_count = gs->index_count,
             .frames = fbuf,
             .count = count,
         };
         if (mode == 1) {
-            /* The count a GPU pass would write: a VkDrawIndirectCommand at
-             * offset 16. */
+            /* The count a GPU pass would write: a VkDrawIndexedIndirectCommand
+             * at offset 16. */
             s = gpu_buffer_create(ctx, 64,
                                   VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT |
                                       VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -216,7 +216,7 @@ static void run_path(xrad_context *ctx, gpu_scene *gs, hemicube_path path, const
                 break;
             uint32_t *w = indirect.alloc.mapped;
             memset(w, 0, 64);
-            w[4] = gs->vertex_count;
+            w[4] = gs->index_count;
             w[5] = count * hemicube_instances_per_hemicube(pass);
             d.indirect = &indirect;
             d.indirect_offset = 16;

@@ -29,7 +29,7 @@
 #include "select_shared.h"
 
 #define GROUP 64u
-#define VERTS 123u
+#define INDICES 123u
 #define INSTANCES 5u
 
 static const double luma[3] = {0.2126, 0.7152, 0.0722};
@@ -139,7 +139,7 @@ static int shoot_masked(xrad_context *ctx, rig *r, uint32_t max_patches, double 
         .element_count = r->scene->element_count,
         .max_patches = max_patches,
         .max_shooters = r->max_shooters,
-        .draw_vertex_count = VERTS,
+        .draw_index_count = INDICES,
         .instances_per_hemicube = INSTANCES,
         .reconstruct_group = GROUP,
         .seed = 7,
@@ -199,10 +199,11 @@ static void check_shot(const rig *r, uint32_t s, const vec4 *bu_before, double p
     CHECK(st->surface == s, "chose surface %u, want %u", st->surface, s);
     CHECK(st->shooter_count == n && n >= 1 && n <= r->max_shooters, "%u shooters, %u x %u",
           st->shooter_count, st->kx, st->ky);
-    CHECK(st->draw_vertex_count == VERTS && st->draw_instance_count == n * INSTANCES &&
-              st->draw_first_vertex == 0 && st->draw_first_instance == 0,
-          "draw %u %u %u %u", st->draw_vertex_count, st->draw_instance_count,
-          st->draw_first_vertex, st->draw_first_instance);
+    CHECK(st->draw_index_count == INDICES && st->draw_instance_count == n * INSTANCES &&
+              st->draw_first_index == 0 && st->draw_vertex_offset == 0 &&
+              st->draw_first_instance == 0,
+          "draw %u %u %u %u %u", st->draw_index_count, st->draw_instance_count,
+          st->draw_first_index, st->draw_vertex_offset, st->draw_first_instance);
     CHECK(st->dispatch_x == (sc->element_count + GROUP - 1) / GROUP && st->dispatch_y == 1 &&
               st->dispatch_z == 1,
           "dispatch %u %u %u", st->dispatch_x, st->dispatch_y, st->dispatch_z);
