@@ -35,10 +35,12 @@ layout(binding = HEMICUBE_BINDING_ATLAS) uniform sampler2D atlas;
 layout(std430, binding = HEMICUBE_BINDING_TRIANGLES) readonly buffer Triangles {
     gpu_hemicube_triangle triangles[];
 };
-layout(std430, binding = HEMICUBE_BINDING_POSITIONS) readonly buffer Positions { float positions[]; };
+layout(std430, binding = HEMICUBE_BINDING_VERTICES) readonly buffer Vertices {
+    gpu_hemicube_vertex vertices[];
+};
 layout(std430, binding = HEMICUBE_BINDING_INDICES) readonly buffer Indices { uint indices[]; };
 
-layout(location = 0) flat in uint first_triangle;
+layout(location = 0) flat in uvec2 ids; // surface, triangle
 layout(location = 1) flat in vec3 origin;
 layout(location = 2) centroid in vec3 rel;
 
@@ -57,14 +59,14 @@ vec4 round_to_half(vec4 v)
     return uintBitsToFloat(b & ~0x1fffu);
 }
 
-vec3 position(uint i) { return vec3(positions[3u * i], positions[3u * i + 1u], positions[3u * i + 2u]); }
+vec3 position(uint i) { return vec3(vertices[i].x, vertices[i].y, vertices[i].z); }
 
 void main()
 {
     // The triangle's corners, and the point's barycentric coordinates in
     // it: what interpolating per-corner values would give, from vertices
     // the triangles share.
-    uint k = first_triangle + uint(gl_PrimitiveID);
+    uint k = ids.y;
     gpu_hemicube_triangle tri = triangles[k];
     vec3 p0 = position(indices[3u * k]);
     vec3 e1 = position(indices[3u * k + 1u]) - p0, e2 = position(indices[3u * k + 2u]) - p0;

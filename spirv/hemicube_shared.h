@@ -2,12 +2,14 @@
  * Hemicube render pass layouts shared by C (src/passes/hemicube.c) and GLSL
  * (spirv/hemicube_*.vert|frag). Same rules as shared.h.
  *
- * The hemicubes draw an indexed triangle list (gpu_scene.h): a vertex is a
- * position alone, shared by every triangle that meets it, and what belongs
- * to a triangle (its surface, its atlas coordinates) is looked up by the
- * fragment stages from the triangle's number, the draw's first triangle
- * plus gl_PrimitiveID. Vertex work is the hemicube cost on lavapipe; a
- * mesh vertex is shared by about six triangles.
+ * The hemicubes draw an indexed triangle list (gpu_scene.h,
+ * solvers/hemicube_clusters.h): vertices are shared between triangles, and
+ * each triangle has a vertex of its own that it names first, its
+ * provoking vertex, whose flat attributes (surface, triangle) are the
+ * triangle's. The fragment stages look up the rest (atlas coordinates) by
+ * the triangle's number. Vertex work is the hemicube cost on lavapipe,
+ * and gl_PrimitiveID is no way round it there: a fragment shader that
+ * reads it makes lavapipe copy out three vertices per triangle.
  */
 #ifndef XRAD_SPIRV_HEMICUBE_SHARED_H
 #define XRAD_SPIRV_HEMICUBE_SHARED_H
@@ -17,16 +19,23 @@
 #define HEMICUBE_BINDING_FRAMES 0    /* struct gpu_shooter[]: origin, normal, tangent per hemicube */
 #define HEMICUBE_BINDING_COUNTS 1    /* uint[]: the indirect draw command (multiview reads its count) */
 #define HEMICUBE_BINDING_ATLAS 2     /* radiosity variant: the atlas, sampled */
+/* Radiosity variant only: */
 #define HEMICUBE_BINDING_TRIANGLES 3 /* struct gpu_hemicube_triangle[] */
-#define HEMICUBE_BINDING_COMMANDS 4  /* VkDrawIndexedIndirectCommand[]: the cull pass's (their
-                                        firstIndex / 3 is the draw's first triangle) */
-#define HEMICUBE_BINDING_POSITIONS 5 /* radiosity variant: float[3] per vertex, world */
-#define HEMICUBE_BINDING_INDICES 6   /* radiosity variant: uint[3] per triangle */
+#define HEMICUBE_BINDING_VERTICES 4  /* struct gpu_hemicube_vertex[] */
+#define HEMICUBE_BINDING_INDICES 5   /* uint[3] per triangle */
 
 #define HEMICUBE_NO_COUNT 0xffffffffu
 
-/* Vertex attribute location: the position, float[3], world (m). */
+/* Vertex attribute locations (struct gpu_hemicube_vertex). */
 #define HEMICUBE_ATTR_POS 0
+#define HEMICUBE_ATTR_IDS 1
+
+/* A hemicube vertex. surface and triangle are those of the triangle whose
+ * provoking vertex it is (any, where it is none's). */
+struct gpu_hemicube_vertex {
+    float x, y, z; /* m, world */
+    uint surface, triangle;
+};
 
 /* Words of one VkDrawIndexedIndirectCommand: indexCount, instanceCount,
  * firstIndex, vertexOffset, firstInstance. */
@@ -43,9 +52,8 @@ struct gpu_hemicube_triangle {
     vec4 uvw[3];
     vec4 tile;    /* atlas coordinates of the surface tile's first and last texel centres
                      (u0, v0, u1, v1): lookups clamp to them */
-    uint surface; /* ID hemicubes write surface + 1 */
     float sign;   /* +1 or -1: the front normal is sign x (p1 - p0) x (p2 - p0) */
-    uint pad0, pad1;
+    uint pad0, pad1, pad2;
 };
 
 struct hemicube_push {
@@ -53,15 +61,11 @@ struct hemicube_push {
     uint hemicube;   /* multiview: the hemicube of this render pass instance */
     uint count_word; /* multiview with an indirect count: index of the uint in COUNTS holding the
                         hemicube count; HEMICUBE_NO_COUNT otherwise */
-    uint commands;   /* 1: the draws are COMMANDS' (the first triangle is command
-                        command_base + gl_DrawID's firstIndex / 3); 0: first_triangle */
+    uint pad0;
     float near;      /* m: geometry nearer than this along a face's axis is clipped */
     float hair;      /* m: the origin sits this far in front of its surface */
     float scale;     /* radiosity variant: the image holds B x scale (keeps fp16 in range) */
     float depth_scale; /* radiosity variant: alpha = distance from the origin x this */
-    uint first_triangle; /* without commands: the draw's first triangle */
-    uint command_base;   /* with commands: the first command of this draw call */
-    uint pad0, pad1;
 };
 
 #endif

@@ -6,7 +6,6 @@
 // alone (hemicube_shared.h); the frame of each hemicube comes from the
 // frames buffer (z = normal, x = tangent, y = z x x, as spirv/hemicube.glsl
 // expects).
-#extension GL_ARB_shader_draw_parameters : require
 #include "radiosity.h"
 #include "hemicube_shared.h"
 #include "hemicube.glsl"
@@ -14,15 +13,15 @@
 layout(push_constant) uniform Push { hemicube_push pc; };
 layout(std430, binding = HEMICUBE_BINDING_FRAMES) readonly buffer Frames { gpu_shooter frames[]; };
 layout(std430, binding = HEMICUBE_BINDING_COUNTS) readonly buffer Counts { uint counts[]; };
-layout(std430, binding = HEMICUBE_BINDING_COMMANDS) readonly buffer Commands { uint commands[]; };
 
 layout(location = HEMICUBE_ATTR_POS) in vec3 in_pos;
+layout(location = HEMICUBE_ATTR_IDS) in uvec2 in_ids; // surface, triangle
 
-// Flat values are the same at every vertex of a draw instance, so the
-// provoking vertex's are everyone's, shared vertices or not.
-layout(location = 0) flat out uint first_triangle; // + gl_PrimitiveID: the triangle
-layout(location = 1) flat out vec3 origin;         // m, world: the hemicube's (moved) origin
-layout(location = 2) centroid out vec3 rel;        // m: the point from the origin
+// Flat values are the provoking vertex's: the triangle's own, or, for the
+// origin, the same at every vertex.
+layout(location = 0) flat out uvec2 ids;    // surface, triangle
+layout(location = 1) flat out vec3 origin;  // m, world: the hemicube's (moved) origin
+layout(location = 2) centroid out vec3 rel; // m: the point from the origin
 
 void main()
 {
@@ -51,9 +50,7 @@ void main()
     // A dead hemicube (beyond the indirect count) puts every vertex behind
     // the eye: everything is clipped.
     gl_Position = live ? hemicube_clip(local, face, pc.near) : vec4(0.0, 0.0, 0.0, -1.0);
-    first_triangle = pc.commands != 0u
-                         ? commands[HEMICUBE_COMMAND_WORDS * (pc.command_base + uint(gl_DrawIDARB)) + 2u] / 3u
-                         : pc.first_triangle;
+    ids = in_ids;
     origin = o;
     rel = d;
 }

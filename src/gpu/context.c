@@ -388,8 +388,6 @@ static xrad_status create_device(struct xrad_context *ctx, bool present, xrad_er
     f->vertex_pipeline_stores_and_atomics = q.features.vertexPipelineStoresAndAtomics;
     f->multi_draw_indirect = q.features.multiDrawIndirect;
     f->draw_indirect_first_instance = q.features.drawIndirectFirstInstance;
-    f->geometry_shader = q.features.geometryShader;
-    f->shader_draw_parameters = q11.shaderDrawParameters;
     f->timestamp_valid_bits = ts_bits;
     f->timestamps = ts_bits > 0 && ctx->props.limits.timestampPeriod > 0;
     f->timestamp_period = ctx->props.limits.timestampPeriod;
@@ -421,7 +419,6 @@ static xrad_status create_device(struct xrad_context *ctx, bool present, xrad_er
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
         .pNext = &e12,
         .multiview = f->multiview,
-        .shaderDrawParameters = f->shader_draw_parameters,
     };
     VkPhysicalDeviceFeatures2 e = {
         .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
@@ -431,7 +428,6 @@ static xrad_status create_device(struct xrad_context *ctx, bool present, xrad_er
             .vertexPipelineStoresAndAtomics = f->vertex_pipeline_stores_and_atomics,
             .multiDrawIndirect = f->multi_draw_indirect,
             .drawIndirectFirstInstance = f->draw_indirect_first_instance,
-            .geometryShader = f->geometry_shader,
         },
     };
     const char *enable[5];

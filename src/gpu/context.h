@@ -35,8 +35,6 @@ typedef struct gpu_features {
     bool vertex_pipeline_stores_and_atomics;
     bool multi_draw_indirect;
     bool draw_indirect_first_instance;
-    bool geometry_shader;         /* what gl_PrimitiveID in a fragment shader needs */
-    bool shader_draw_parameters;  /* gl_DrawID */
     bool timestamps;        /* timestamp queries on the queue */
     double timestamp_period; /* ns per tick */
     uint32_t timestamp_valid_bits;

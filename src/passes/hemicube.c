@@ -43,8 +43,7 @@ struct hemicube_pass {
     uint32_t framebuffer_count;
 
     /* What the descriptor set points at. */
-    VkBuffer bound_frames, bound_counts, bound_triangles, bound_commands, bound_positions,
-        bound_indices;
+    VkBuffer bound_frames, bound_counts, bound_triangles, bound_vertices, bound_indices;
     VkImageView bound_atlas;
 };
 
@@ -62,8 +61,6 @@ const char *hemicube_path_label(hemicube_path path)
 
 bool hemicube_path_supported(const struct xrad_context *ctx, hemicube_path path)
 {
-    if (!ctx->features.geometry_shader || !ctx->features.shader_draw_parameters)
-        return false;
     if (path == HEMICUBE_PATH_MULTIVIEW)
         return ctx->features.multiview && ctx->features.multiview_max_views >= HEMICUBE_FACES;
     if (path == HEMICUBE_PATH_LAYERED)
@@ -97,19 +94,18 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
     bool rad = p->desc.kind == HEMICUBE_RADIOSITY;
     const VkShaderStageFlags v = VK_SHADER_STAGE_VERTEX_BIT, f = VK_SHADER_STAGE_FRAGMENT_BIT;
     const VkDescriptorType sb = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    /* The ID variant's four, then the radiosity variant's three more. */
-    VkDescriptorSetLayoutBinding bindings[7] = {
+    /* The ID variant's two, then the radiosity variant's four more. */
+    VkDescriptorSetLayoutBinding bindings[6] = {
         {HEMICUBE_BINDING_FRAMES, sb, 1, v, NULL},
         {HEMICUBE_BINDING_COUNTS, sb, 1, v, NULL},
-        {HEMICUBE_BINDING_TRIANGLES, sb, 1, f, NULL},
-        {HEMICUBE_BINDING_COMMANDS, sb, 1, v, NULL},
         {HEMICUBE_BINDING_ATLAS, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1, f, NULL},
-        {HEMICUBE_BINDING_POSITIONS, sb, 1, f, NULL},
+        {HEMICUBE_BINDING_TRIANGLES, sb, 1, f, NULL},
+        {HEMICUBE_BINDING_VERTICES, sb, 1, f, NULL},
         {HEMICUBE_BINDING_INDICES, sb, 1, f, NULL},
     };
-    uint32_t nb = rad ? 7 : 4;
+    uint32_t nb = rad ? 6 : 2;
     VkDescriptorPoolSize sizes[2] = {
-        {sb, rad ? 6 : 4},
+        {sb, rad ? 5 : 2},
         {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 1},
     };
     xrad_status s;
@@ -140,9 +136,12 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
             return s;
     }
 
-    VkVertexInputBindingDescription vb = {0, 3 * sizeof(float), VK_VERTEX_INPUT_RATE_VERTEX};
-    VkVertexInputAttributeDescription attrs[1] = {
-        {HEMICUBE_ATTR_POS, 0, VK_FORMAT_R32G32B32_SFLOAT, 0},
+    VkVertexInputBindingDescription vb = {0, sizeof(struct gpu_hemicube_vertex),
+                                          VK_VERTEX_INPUT_RATE_VERTEX};
+    VkVertexInputAttributeDescription attrs[2] = {
+        {HEMICUBE_ATTR_POS, 0, VK_FORMAT_R32G32B32_SFLOAT, offsetof(struct gpu_hemicube_vertex, x)},
+        {HEMICUBE_ATTR_IDS, 0, VK_FORMAT_R32G32_UINT,
+         offsetof(struct gpu_hemicube_vertex, surface)},
     };
     const uint32_t consts[2] = {p->shader_bilinear ? 1u : 0u, p->desc.cells ? 1u : 0u};
     const VkSpecializationMapEntry entries[2] = {{0, 0, sizeof(uint32_t)},
@@ -158,7 +157,7 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
         .bindings = &vb,
         .binding_count = 1,
         .attributes = attrs,
-        .attribute_count = 1,
+        .attribute_count = 2,
         /* Surfaces occlude from both sides; back sides are black (radiosity). */
         .cull = VK_CULL_MODE_NONE,
         .front_face = VK_FRONT_FACE_COUNTER_CLOCKWISE,
@@ -353,14 +352,7 @@ xrad_status hemicube_create_desc(struct xrad_context *ctx, const hemicube_desc *
     xrad_status s = check_desc(ctx, desc, err);
     if (s)
         return s;
-    if (!ctx->features.geometry_shader || !ctx->features.shader_draw_parameters)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM,
-                         "hemicube: device '%s' lacks %s, which the hemicubes' indexed "
-                         "triangles need (the triangle of a fragment is gl_PrimitiveID from "
-                         "the draw's first, gl_DrawID)",
-                         ctx->props.deviceName,
-                         !ctx->features.geometry_shader ? "geometryShader"
-                                                        : "shaderDrawParameters");
+
     if (desc->path != HEMICUBE_PATH_AUTO)
         return create_for_path(ctx, desc, desc->path, out, err);
     const hemicube_path order[2] = {HEMICUBE_PATH_MULTIVIEW, HEMICUBE_PATH_LAYERED};
@@ -418,44 +410,41 @@ uint32_t hemicube_max(const hemicube_pass *pass) { return pass->desc.max_hemicub
 static void bind(hemicube_pass *p, const hemicube_draw *d)
 {
     const gpu_buffer *counts = d->indirect ? d->indirect : d->frames;
-    /* Without commands the shader does not read them: any buffer will do. */
-    const gpu_buffer *commands = d->commands ? d->commands : d->frames;
     bool rad = p->desc.kind == HEMICUBE_RADIOSITY;
     VkImageView atlas = rad && d->atlas ? d->atlas->view : VK_NULL_HANDLE;
-    VkBuffer positions = rad ? d->mesh.positions->buffer : VK_NULL_HANDLE;
+    VkBuffer triangles = rad ? d->mesh.triangles->buffer : VK_NULL_HANDLE;
+    VkBuffer vertices = rad ? d->mesh.vertices->buffer : VK_NULL_HANDLE;
     VkBuffer indices = rad ? d->mesh.indices->buffer : VK_NULL_HANDLE;
     if (p->bound_frames == d->frames->buffer && p->bound_counts == counts->buffer &&
-        p->bound_triangles == d->mesh.triangles->buffer && p->bound_commands == commands->buffer &&
-        p->bound_atlas == atlas && p->bound_positions == positions && p->bound_indices == indices)
+        p->bound_atlas == atlas && p->bound_triangles == triangles &&
+        p->bound_vertices == vertices && p->bound_indices == indices)
         return;
-    const uint32_t binding[7] = {HEMICUBE_BINDING_FRAMES,    HEMICUBE_BINDING_COUNTS,
-                                 HEMICUBE_BINDING_TRIANGLES, HEMICUBE_BINDING_COMMANDS,
-                                 HEMICUBE_BINDING_POSITIONS, HEMICUBE_BINDING_INDICES,
-                                 HEMICUBE_BINDING_ATLAS};
-    VkDescriptorBufferInfo bi[6] = {
-        {d->frames->buffer, 0, VK_WHOLE_SIZE},   {counts->buffer, 0, VK_WHOLE_SIZE},
-        {d->mesh.triangles->buffer, 0, VK_WHOLE_SIZE}, {commands->buffer, 0, VK_WHOLE_SIZE},
-        {positions, 0, VK_WHOLE_SIZE},           {indices, 0, VK_WHOLE_SIZE},
+    const uint32_t binding[6] = {HEMICUBE_BINDING_FRAMES,    HEMICUBE_BINDING_COUNTS,
+                                 HEMICUBE_BINDING_TRIANGLES, HEMICUBE_BINDING_VERTICES,
+                                 HEMICUBE_BINDING_INDICES,   HEMICUBE_BINDING_ATLAS};
+    VkDescriptorBufferInfo bi[5] = {
+        {d->frames->buffer, 0, VK_WHOLE_SIZE}, {counts->buffer, 0, VK_WHOLE_SIZE},
+        {triangles, 0, VK_WHOLE_SIZE},         {vertices, 0, VK_WHOLE_SIZE},
+        {indices, 0, VK_WHOLE_SIZE},
     };
     VkDescriptorImageInfo ii = {p->sampler, atlas, VK_IMAGE_LAYOUT_GENERAL};
-    VkWriteDescriptorSet w[7];
-    for (uint32_t i = 0; i < 7; i++)
+    VkWriteDescriptorSet w[6];
+    for (uint32_t i = 0; i < 6; i++)
         w[i] = (VkWriteDescriptorSet){
             .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
             .dstSet = p->set,
             .dstBinding = binding[i],
             .descriptorCount = 1,
-            .descriptorType = i == 6 ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
+            .descriptorType = i == 5 ? VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER
                                      : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-            .pBufferInfo = i < 6 ? &bi[i] : NULL,
-            .pImageInfo = i == 6 ? &ii : NULL,
+            .pBufferInfo = i < 5 ? &bi[i] : NULL,
+            .pImageInfo = i == 5 ? &ii : NULL,
         };
-    vkUpdateDescriptorSets(p->ctx->device, rad ? 7 : 4, w, 0, NULL);
+    vkUpdateDescriptorSets(p->ctx->device, rad ? 6 : 2, w, 0, NULL);
     p->bound_frames = d->frames->buffer;
     p->bound_counts = counts->buffer;
-    p->bound_triangles = d->mesh.triangles->buffer;
-    p->bound_commands = commands->buffer;
-    p->bound_positions = positions;
+    p->bound_triangles = triangles;
+    p->bound_vertices = vertices;
     p->bound_indices = indices;
     p->bound_atlas = atlas;
 }
@@ -480,28 +469,28 @@ static void begin(hemicube_pass *p, VkCommandBuffer cmd, uint32_t framebuffer)
 }
 
 /* The draw of one render pass instance: the cull pass's commands (one
- * multi-draw where the device has it, the vertex stage reading each one's
- * first index), or the indirect command, or the host's count. */
+ * multi-draw where the device has it), or the indirect command, or the
+ * host's count (range by range where the mesh has them). */
 static void draw(const hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw *d,
-                 struct hemicube_push *push, uint32_t instances)
+                 uint32_t instances)
 {
-    const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     const uint32_t stride = sizeof(VkDrawIndexedIndirectCommand);
-    push->commands = d->commands ? 1u : 0u;
-    push->command_base = 0;
-    vkCmdPushConstants(cmd, p->layout, stages, 0, sizeof(*push), push);
     if (d->commands && p->ctx->features.multi_draw_indirect &&
         d->command_count <= p->ctx->props.limits.maxDrawIndirectCount) {
         vkCmdDrawIndexedIndirect(cmd, d->commands->buffer, 0, d->command_count, stride);
     } else if (d->commands) {
-        for (uint32_t k = 0; k < d->command_count; k++) {
-            push->command_base = k;
-            vkCmdPushConstants(cmd, p->layout, stages, 0, sizeof(*push), push);
+        for (uint32_t k = 0; k < d->command_count; k++)
             vkCmdDrawIndexedIndirect(cmd, d->commands->buffer, (VkDeviceSize)k * stride, 1,
                                      stride);
-        }
     } else if (d->indirect && instances == 0) {
         vkCmdDrawIndexedIndirect(cmd, d->indirect->buffer, d->indirect_offset, 1, stride);
+    } else if (d->mesh.ranges) {
+        for (uint32_t k = 0; k < d->mesh.range_count; k++) {
+            uint32_t first = d->mesh.ranges[k], end = d->mesh.ranges[k + 1];
+            if (end > d->index_count || end == first)
+                break;
+            vkCmdDrawIndexed(cmd, end - first, instances ? instances : 1, first, 0, 0);
+        }
     } else if (d->index_count) {
         vkCmdDrawIndexed(cmd, d->index_count, instances ? instances : 1, 0, 0, 0);
     }
@@ -523,6 +512,7 @@ void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw 
     VkViewport viewport = {0, 0, (float)p->desc.res, (float)p->desc.res, 0, 1};
     VkRect2D scissor = {.extent = {p->desc.res, p->desc.res}};
     VkDeviceSize zero = 0;
+    const VkShaderStageFlags stages = VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT;
     if (p->path == HEMICUBE_PATH_MULTIVIEW) {
         for (uint32_t k = 0; k < n; k++) {
             begin(p, cmd, k);
@@ -531,12 +521,13 @@ void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw 
                                     &p->set, 0, NULL);
             vkCmdSetViewport(cmd, 0, 1, &viewport);
             vkCmdSetScissor(cmd, 0, 1, &scissor);
-            vkCmdBindVertexBuffers(cmd, 0, 1, &d->mesh.positions->buffer, &zero);
+            vkCmdBindVertexBuffers(cmd, 0, 1, &d->mesh.vertices->buffer, &zero);
             vkCmdBindIndexBuffer(cmd, d->mesh.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
             push.hemicube = k;
+            vkCmdPushConstants(cmd, p->layout, stages, 0, sizeof(push), &push);
             /* One instance: the count word in the push constants says
              * which hemicubes are live. */
-            draw(p, cmd, d, &push, 1);
+            draw(p, cmd, d, 1);
             vkCmdEndRenderPass(cmd);
         }
     } else if (n) {
@@ -546,9 +537,10 @@ void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw 
                                 0, NULL);
         vkCmdSetViewport(cmd, 0, 1, &viewport);
         vkCmdSetScissor(cmd, 0, 1, &scissor);
-        vkCmdBindVertexBuffers(cmd, 0, 1, &d->mesh.positions->buffer, &zero);
+        vkCmdBindVertexBuffers(cmd, 0, 1, &d->mesh.vertices->buffer, &zero);
         vkCmdBindIndexBuffer(cmd, d->mesh.indices->buffer, 0, VK_INDEX_TYPE_UINT32);
-        draw(p, cmd, d, &push, d->indirect ? 0 : n * HEMICUBE_FACES);
+        vkCmdPushConstants(cmd, p->layout, stages, 0, sizeof(push), &push);
+        draw(p, cmd, d, d->indirect ? 0 : n * HEMICUBE_FACES);
         vkCmdEndRenderPass(cmd);
     }
     bool resolve = p->desc.kind == HEMICUBE_RADIOSITY && p->desc.msaa > 1;
@@ -712,22 +704,21 @@ xrad_status hemicube_check_path(struct xrad_context *ctx, hemicube_path path,
         .path = path,
         .diameter = diameter,
     };
-    /* Quads as the scene's are drawn: two triangles over four vertices. */
-    float pos[CHECK_QUADS * 4 * 3];
+    /* Quads as the scene's are drawn: two triangles over four vertices,
+     * each naming its provoking vertex first (0 1 2, then 2 3 0). The two
+     * corners that provoke nothing carry a surface no pixel may show. */
+    struct gpu_hemicube_vertex verts[CHECK_QUADS * 4];
     uint32_t idx[CHECK_QUADS * 6];
-    struct gpu_hemicube_triangle tris[CHECK_QUADS * 2];
-    memset(tris, 0, sizeof(tris));
+    static const uint32_t order[6] = {0, 1, 2, 2, 3, 0};
     for (uint32_t i = 0; i < CHECK_QUADS; i++) {
-        for (int k = 0; k < 4; k++) {
-            pos[(i * 4 + k) * 3 + 0] = (float)quads[i][k].x;
-            pos[(i * 4 + k) * 3 + 1] = (float)quads[i][k].y;
-            pos[(i * 4 + k) * 3 + 2] = (float)quads[i][k].z;
-        }
-        for (uint32_t t = 0; t < 2; t++) {
-            for (int k = 0; k < 3; k++)
-                idx[i * 6 + t * 3 + k] = i * 4 + (uint32_t)hemicube_triangle_corner(t, k);
-            tris[i * 2 + t].surface = i;
-        }
+        for (uint32_t k = 0; k < 4; k++)
+            verts[i * 4 + k] = (struct gpu_hemicube_vertex){
+                .x = (float)quads[i][k].x, .y = (float)quads[i][k].y, .z = (float)quads[i][k].z,
+                .surface = k % 2 ? CHECK_QUADS + 1 : i,
+                .triangle = 2 * i + k / 2,
+            };
+        for (int k = 0; k < 6; k++)
+            idx[i * 6 + k] = i * 4 + order[k];
     }
     struct gpu_shooter sh[CHECK_CUBES];
     memset(sh, 0, sizeof(sh));
@@ -745,27 +736,24 @@ xrad_status hemicube_check_path(struct xrad_context *ctx, hemicube_path path,
     if (!ids)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "hemicube check: out of host memory");
     hemicube_pass *p = NULL;
-    gpu_buffer vb = {0}, ib = {0}, tb = {0}, fb = {0};
+    gpu_buffer vb = {0}, ib = {0}, fb = {0};
     gpu_cmd c = {0};
     xrad_status s;
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     if ((s = create_for_path(ctx, &desc, path, &p, err)) ||
-        (s = gpu_buffer_create(ctx, sizeof(pos), storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
+        (s = gpu_buffer_create(ctx, sizeof(verts), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT,
                                GPU_MEM_UPLOAD, GPU_MEM_GEOMETRY, &vb, err)) ||
-        (s = gpu_buffer_create(ctx, sizeof(idx), storage | VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
+        (s = gpu_buffer_create(ctx, sizeof(idx), VK_BUFFER_USAGE_INDEX_BUFFER_BIT,
                                GPU_MEM_UPLOAD, GPU_MEM_GEOMETRY, &ib, err)) ||
-        (s = gpu_buffer_create(ctx, sizeof(tris), storage, GPU_MEM_UPLOAD, GPU_MEM_GEOMETRY,
-                               &tb, err)) ||
         (s = gpu_buffer_create(ctx, sizeof(sh), storage, GPU_MEM_UPLOAD, GPU_MEM_GEOMETRY, &fb,
                                err)) ||
-        (s = gpu_upload_buffer(ctx, &vb, 0, pos, sizeof(pos), err)) ||
+        (s = gpu_upload_buffer(ctx, &vb, 0, verts, sizeof(verts), err)) ||
         (s = gpu_upload_buffer(ctx, &ib, 0, idx, sizeof(idx), err)) ||
-        (s = gpu_upload_buffer(ctx, &tb, 0, tris, sizeof(tris), err)) ||
         (s = gpu_upload_buffer(ctx, &fb, 0, sh, sizeof(sh), err)) ||
         (s = gpu_cmd_begin(ctx, &c, err)))
         goto done;
     hemicube_draw d = {
-        .mesh = {&vb, &ib, &tb},
+        .mesh = {&vb, &ib, NULL, NULL, 0},
         .index_count = CHECK_QUADS * 6,
         .frames = &fb,
         .count = CHECK_CUBES,
@@ -833,7 +821,6 @@ xrad_status hemicube_check_path(struct xrad_context *ctx, hemicube_path path,
 done:
     gpu_cmd_destroy(ctx, &c);
     gpu_buffer_destroy(ctx, &fb);
-    gpu_buffer_destroy(ctx, &tb);
     gpu_buffer_destroy(ctx, &ib);
     gpu_buffer_destroy(ctx, &vb);
     hemicube_destroy(ctx, &p);

@@ -155,20 +155,26 @@ uint32_t hemicube_max(const hemicube_pass *pass);
 
 /* The indexed triangles a hemicube draws (spirv/hemicube_shared.h). */
 typedef struct hemicube_mesh {
-    const gpu_buffer *positions; /* float[3] per vertex, world: VERTEX and STORAGE usage */
+    const gpu_buffer *vertices;  /* struct gpu_hemicube_vertex[]: VERTEX and STORAGE usage */
     const gpu_buffer *indices;   /* uint32_t, 3 per triangle: INDEX and STORAGE usage */
     const gpu_buffer *triangles; /* struct gpu_hemicube_triangle per triangle, STORAGE */
+    /* Host: range_count + 1 index offsets, or NULL. A draw of the host's
+     * count draws range by range (hemicube_clusters.h says why). */
+    const uint32_t *ranges;
+    uint32_t range_count;
 } hemicube_mesh;
 
-/* A scene's, at the pose its positions hold. */
+/* A scene's, at the pose its vertices hold, by clusters. */
 static inline hemicube_mesh hemicube_scene_mesh(const gpu_scene *gs)
 {
-    return (hemicube_mesh){&gs->positions, &gs->indices, &gs->triangles};
+    return (hemicube_mesh){&gs->vertices, &gs->indices, &gs->triangles, gs->layout.first,
+                           gs->layout.count};
 }
 
 typedef struct hemicube_draw {
     hemicube_mesh mesh;
-    uint32_t index_count; /* without commands: indices [0, index_count) (whole triangles) */
+    uint32_t index_count; /* without commands: indices [0, index_count) (whole triangles; with
+                             ranges, at the end of one) */
     const gpu_buffer *frames;   /* struct gpu_shooter[], STORAGE usage */
     uint32_t first;             /* frame of hemicube 0 */
     /* Either the host's count (indirect NULL; at most max_hemicubes) or a

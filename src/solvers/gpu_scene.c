@@ -15,21 +15,21 @@
 typedef struct geometry {
     struct gpu_surface *surfaces;
     struct gpu_element *elements;
-    float *positions; /* 3 per hemicube vertex */
+    struct gpu_hemicube_vertex *vertices;
 } geometry;
 
 static void geometry_free(geometry *g)
 {
     free(g->surfaces);
     free(g->elements);
-    free(g->positions);
+    free(g->vertices);
     memset(g, 0, sizeof(*g));
 }
 
 /* Buffers cannot be empty; a scene without surfaces still gets one entry. */
 static size_t at_least_one(size_t n) { return n ? n : 1; }
 
-/* The host tables at `time`; the hemicube vertices' positions. */
+/* The host tables at `time`, the hemicube vertices among them. */
 static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_patches,
                                  const hemicube_clusters *layout, double time, geometry *g,
                                  double *diameter, xrad_error *err)
@@ -37,8 +37,10 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
     memset(g, 0, sizeof(*g));
     g->surfaces = calloc(at_least_one(scene->surface_count), sizeof(*g->surfaces));
     g->elements = calloc(at_least_one(scene->element_count), sizeof(*g->elements));
-    g->positions = calloc(3 * at_least_one(layout->vertex_count), sizeof(*g->positions));
-    if (!g->surfaces || !g->elements || !g->positions) {
+    g->vertices = calloc(at_least_one(layout->vertex_count), sizeof(*g->vertices));
+    xform *poses = calloc(at_least_one(scene->object_count), sizeof *poses);
+    if (!g->surfaces || !g->elements || !g->vertices || !poses) {
+        free(poses);
         geometry_free(g);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for the GPU scene",
                          scene->path);
@@ -81,15 +83,22 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
             ge->texel_y = el->texel_y;
         }
 
-        /* Corners of one object at one model position are one vertex
-         * (hemicube_clusters.h), and pose to the same floats. */
-        for (int k = 0; k < 4; k++) {
-            float *v = &g->positions[3 * (size_t)layout->corner_vertex[4 * s + k]];
-            v[0] = (float)c[k].x;
-            v[1] = (float)c[k].y;
-            v[2] = (float)c[k].z;
-        }
     }
+    /* A vertex is posed as the corner it is at (hemicube_clusters.h), so
+     * the corners that share it agree to the bit with scene_surface_world. */
+    for (uint32_t o = 0; o < scene->object_count; o++)
+        poses[o] = scene_object_pose(scene, o, time);
+    for (uint32_t v = 0; v < layout->vertex_count; v++) {
+        const surface *sf = &scene->surfaces[layout->vertex_source[v] / 4];
+        vec3 p = xf_point(&poses[sf->object], sf->p[layout->vertex_source[v] % 4]);
+        uint32_t t = layout->vertex_triangle[v];
+        g->vertices[v] = (struct gpu_hemicube_vertex){
+            .x = (float)p.x, .y = (float)p.y, .z = (float)p.z,
+            .surface = t == UINT32_MAX ? 0 : layout->triangle_surface[t],
+            .triangle = t == UINT32_MAX ? 0 : t,
+        };
+    }
+    free(poses);
     *diameter = scene->surface_count ? v3_len(v3_sub(hi, lo)) : 0;
     return XRAD_OK;
 }
@@ -119,10 +128,11 @@ static xrad_status upload_triangles(struct xrad_context *ctx, gpu_scene *gs, xra
         vec4 tile = {(float)((e0->texel_x + 0.5) * inv_w), (float)((e0->texel_y + 0.5) * inv_h),
                      (float)((e1->texel_x + 0.5) * inv_w), (float)((e1->texel_y + 0.5) * inv_h)};
         for (uint32_t k = 0; k < hemicube_surface_triangles(sf); k++) {
-            struct gpu_hemicube_triangle *tr = &t[layout->first_index[s] / 3 + k];
+            uint32_t ti = layout->first_index[s] / 3 + k;
+            struct gpu_hemicube_triangle *tr = &t[ti];
             vec3 p[3];
             for (int i = 0; i < 3; i++) {
-                int corner = hemicube_triangle_corner(k, i);
+                int corner = layout->corners[3 * ti + i];
                 const element *el = &scene->elements[sf->first_element + ci[corner]];
                 /* A triangle's apex is corners 2 and 3 (scene.h). */
                 float w = sf->triangle && corner >= 2 ? 0.0f : 1.0f;
@@ -133,7 +143,6 @@ static xrad_status upload_triangles(struct xrad_context *ctx, gpu_scene *gs, xra
             /* Rigid poses keep the winding's side. */
             vec3 n = v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
             tr->tile = tile;
-            tr->surface = s;
             tr->sign = v3_dot(n, sf->normal) < 0 ? -1.0f : 1.0f;
         }
     }
@@ -196,8 +205,8 @@ static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, doub
                                 at_least_one(gs->surface_count) * sizeof(*g.surfaces), err)) &&
         !(s = gpu_upload_buffer(ctx, &gs->elements, 0, g.elements,
                                 at_least_one(gs->element_count) * sizeof(*g.elements), err)) &&
-        !(s = gpu_upload_buffer(ctx, &gs->positions, 0, g.positions,
-                                3 * at_least_one(gs->vertex_count) * sizeof(float), err)) &&
+        !(s = gpu_upload_buffer(ctx, &gs->vertices, 0, g.vertices,
+                                at_least_one(gs->vertex_count) * sizeof(*g.vertices), err)) &&
         !(s = gpu_upload_buffer(ctx, &gs->clusters, 0, clusters,
                                 at_least_one(gs->cluster_count) * sizeof(*clusters), err))) {
         gs->time = time;
@@ -297,17 +306,17 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                                        VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     size_t ns = at_least_one(scene->surface_count), ne = at_least_one(scene->element_count);
     size_t nm = at_least_one(scene->material_count);
-    /* Before the layout is built (a vertex per corner at most). */
+    /* Before the layout is built: a vertex per corner and triangle at most. */
     size_t nv = 0, ni = 0;
     for (uint32_t k = 0; k < scene->surface_count; k++) {
-        nv += scene->surfaces[k].triangle ? 3 : 4;
+        nv += scene->surfaces[k].triangle ? 4 : 6;
         ni += 3 * hemicube_surface_triangles(&scene->surfaces[k]);
     }
     nv = at_least_one(nv);
     ni = at_least_one(ni);
     uint64_t need = ns * sizeof(struct gpu_surface) + ne * sizeof(struct gpu_element) +
                     nm * sizeof(struct gpu_material) + 2 * ne * sizeof(vec4) +
-                    nv * 3 * sizeof(float) + ni * sizeof(uint32_t) +
+                    nv * sizeof(struct gpu_hemicube_vertex) + ni * sizeof(uint32_t) +
                     ni / 3 * sizeof(struct gpu_hemicube_triangle) +
                     (uint64_t)at_least_one(scene->atlas_width) *
                         at_least_one(scene->atlas_height) * 16;
@@ -343,9 +352,9 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                                GPU_MEM_RADIOSITY, &out->B, err)) ||
         (s = gpu_buffer_create(ctx, ne * sizeof(vec4), storage, GPU_MEM_DEVICE,
                                GPU_MEM_RADIOSITY, &out->Bu, err)) ||
-        (s = gpu_buffer_create(ctx, nv * 3 * sizeof(float),
+        (s = gpu_buffer_create(ctx, nv * sizeof(struct gpu_hemicube_vertex),
                                storage | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, GPU_MEM_DEVICE,
-                               GPU_MEM_GEOMETRY, &out->positions, err)) ||
+                               GPU_MEM_GEOMETRY, &out->vertices, err)) ||
         (s = gpu_buffer_create(ctx, ni * sizeof(uint32_t),
                                storage | VK_BUFFER_USAGE_INDEX_BUFFER_BIT, GPU_MEM_DEVICE,
                                GPU_MEM_GEOMETRY, &out->indices, err)) ||
@@ -386,7 +395,7 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
     free(gs->enclosed);
     free(gs->enclosed_m);
     gpu_image_destroy(ctx, &gs->atlas);
-    gpu_buffer_destroy(ctx, &gs->positions);
+    gpu_buffer_destroy(ctx, &gs->vertices);
     gpu_buffer_destroy(ctx, &gs->indices);
     gpu_buffer_destroy(ctx, &gs->triangles);
     gpu_buffer_destroy(ctx, &gs->clusters);

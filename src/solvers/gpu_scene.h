@@ -35,7 +35,7 @@ typedef struct gpu_scene {
     const xrad_scene *scene;
     double time; /* pose the buffers hold */
     uint32_t surface_count, element_count, material_count;
-    uint32_t vertex_count;     /* hemicube vertices (positions), shared by the triangles */
+    uint32_t vertex_count;     /* hemicube vertices, shared by the triangles */
     uint32_t index_count;      /* 6 per quad, 3 per triangle: static surfaces first, then
                                   dynamic ones */
     uint32_t static_index_count; /* those of static surfaces (set C) */
@@ -43,7 +43,8 @@ typedef struct gpu_scene {
     gpu_buffer elements;       /* struct gpu_element[element_count] */
     gpu_buffer materials;      /* struct gpu_material[material_count] */
     gpu_buffer B, Bu;          /* vec4[element_count] */
-    gpu_buffer positions;      /* float[3][vertex_count], world at `time`: VERTEX, STORAGE */
+    gpu_buffer vertices;       /* struct gpu_hemicube_vertex[vertex_count], world at `time`:
+                                  VERTEX, STORAGE */
     gpu_buffer indices;        /* uint32_t[index_count] in layout's order: INDEX, STORAGE */
     gpu_buffer triangles;      /* struct gpu_hemicube_triangle[index_count / 3] */
     hemicube_clusters layout;  /* the triangles' order, vertices and clusters
@@ -88,7 +89,7 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
 /* Accepts a zeroed struct; zeroes it. The GPU must be done with it. */
 void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs);
 
-/* Re-uploads the geometry (surfaces, elements, positions) posed at `time`.
+/* Re-uploads the geometry (surfaces, elements, hemicube vertices) posed at `time`.
  * B and Bu are kept. The GPU must not be using those buffers. */
 xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
                            xrad_error *err);

@@ -46,66 +46,105 @@ void hemicube_clusters_free(hemicube_clusters *c)
 {
     free(c->order);
     free(c->first_index);
-    free(c->corner_vertex);
     free(c->indices);
+    free(c->corners);
+    free(c->triangle_surface);
+    free(c->vertex_source);
+    free(c->vertex_triangle);
     free(c->start);
+    free(c->first);
     free(c->closed);
     memset(c, 0, sizeof(*c));
 }
 
-/* The corners' vertices: one per object and model position, numbered in
- * drawing order; and the indices. Open addressing over the corners. */
+/* The vertices and the indices. Corners at one model position are one
+ * vertex within a cluster (SHARE_WITHIN_CLUSTER) or an object, numbered
+ * in drawing order (open addressing over the corners). Then each
+ * triangle, in drawing order, takes one of its vertices that no triangle
+ * has taken as its provoking vertex and names it first (a rotation keeps
+ * the winding); where all three are taken, a copy of its first corner is
+ * made for it. Closed meshes have about twice as many triangles as
+ * vertices, so about half the triangles get a copy: one vertex a
+ * triangle in all, against three unindexed. */
+#define SHARE_WITHIN_CLUSTER 1
+#define NO_TRIANGLE UINT32_MAX
+
 static xrad_status share_vertices(const xrad_scene *scene, hemicube_clusters *c, xrad_error *err)
 {
     uint32_t ns = scene->surface_count;
-    size_t cap = 16;
+    size_t cap = 16, most = 6 * (size_t)ns + 1; /* 4 corners and 2 copies a surface */
     while (cap < 8 * (size_t)ns)
         cap *= 2;
-    uint32_t *slot = malloc(cap * sizeof *slot);  /* vertex + 1, 0: empty */
-    uint32_t *source = malloc((4 * (size_t)ns + 1) * sizeof *source); /* vertex -> 4 s + k */
-    if (!slot || !source) {
+    uint32_t *slot = malloc(cap * sizeof *slot);      /* vertex + 1, 0: empty */
+    uint32_t *scope = malloc(most * sizeof *scope);   /* vertex -> cluster or object */
+    c->vertex_source = malloc(most * sizeof *c->vertex_source);
+    c->vertex_triangle = malloc(most * sizeof *c->vertex_triangle);
+    if (!slot || !scope || !c->vertex_source || !c->vertex_triangle) {
         free(slot);
-        free(source);
+        free(scope);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "hemicube vertices: out of host memory");
     }
     memset(slot, 0, cap * sizeof *slot);
     uint32_t count = 0;
-    for (uint32_t i = 0; i < ns; i++) {
-        uint32_t s = c->order[i];
-        const surface *sf = &scene->surfaces[s];
-        for (int k = 0; k < 4; k++) {
-            vec3 p = sf->p[k];
-            uint64_t h = sf->object * 0x9e3779b97f4a7c15ull;
-            double xyz[3] = {p.x + 0.0, p.y + 0.0, p.z + 0.0}; /* -0 and 0 alike */
-            for (int a = 0; a < 3; a++) {
-                uint64_t b;
-                memcpy(&b, &xyz[a], sizeof b);
-                h = (h ^ b) * 0x100000001b3ull;
-                h ^= h >> 29;
-            }
-            size_t at = h & (cap - 1);
-            for (;; at = (at + 1) & (cap - 1)) {
-                if (!slot[at]) {
-                    source[count] = 4 * s + (uint32_t)k;
-                    slot[at] = ++count;
-                    break;
+    for (uint32_t q = 0; q < c->count; q++) {
+        for (uint32_t i = c->start[q]; i < c->start[q + 1]; i++) {
+            uint32_t s = c->order[i];
+            const surface *sf = &scene->surfaces[s];
+            uint32_t key = SHARE_WITHIN_CLUSTER ? q : sf->object;
+            uint32_t corner_vertex[4];
+            for (int k = 0; k < 4; k++) {
+                vec3 p = sf->p[k];
+                uint64_t h = key * 0x9e3779b97f4a7c15ull;
+                double xyz[3] = {p.x + 0.0, p.y + 0.0, p.z + 0.0}; /* -0 and 0 alike */
+                for (int a = 0; a < 3; a++) {
+                    uint64_t b;
+                    memcpy(&b, &xyz[a], sizeof b);
+                    h = (h ^ b) * 0x100000001b3ull;
+                    h ^= h >> 29;
                 }
-                uint32_t src = source[slot[at] - 1];
-                const surface *o = &scene->surfaces[src / 4];
-                vec3 q = o->p[src % 4];
-                if (o->object == sf->object && q.x == p.x && q.y == p.y && q.z == p.z)
-                    break;
+                size_t at = h & (cap - 1);
+                for (;; at = (at + 1) & (cap - 1)) {
+                    if (!slot[at]) {
+                        c->vertex_source[count] = 4 * s + (uint32_t)k;
+                        c->vertex_triangle[count] = NO_TRIANGLE;
+                        scope[count] = key;
+                        slot[at] = ++count;
+                        break;
+                    }
+                    uint32_t v = slot[at] - 1, src = c->vertex_source[v];
+                    vec3 o = scene->surfaces[src / 4].p[src % 4];
+                    if (scope[v] == key && o.x == p.x && o.y == p.y && o.z == p.z)
+                        break;
+                }
+                corner_vertex[k] = slot[at] - 1;
             }
-            c->corner_vertex[4 * s + k] = slot[at] - 1;
+            for (uint32_t k = 0; k < hemicube_surface_triangles(sf); k++) {
+                uint32_t t = c->first_index[s] / 3 + k, v[3];
+                int first = -1;
+                for (int j = 0; j < 3; j++) {
+                    v[j] = corner_vertex[hemicube_triangle_corner(k, j)];
+                    if (first < 0 && c->vertex_triangle[v[j]] == NO_TRIANGLE)
+                        first = j;
+                }
+                if (first < 0) {
+                    first = 0;
+                    c->vertex_source[count] = 4 * s + (uint32_t)hemicube_triangle_corner(k, 0);
+                    scope[count] = NO_TRIANGLE; /* shared with nobody */
+                    v[0] = count++;
+                }
+                c->vertex_triangle[v[first]] = t;
+                c->triangle_surface[t] = s;
+                for (int j = 0; j < 3; j++) {
+                    int r = (first + j) % 3;
+                    c->indices[3 * t + j] = v[r];
+                    c->corners[3 * t + j] = (uint8_t)hemicube_triangle_corner(k, r);
+                }
+            }
         }
-        for (uint32_t t = 0; t < hemicube_surface_triangles(sf); t++)
-            for (int v = 0; v < 3; v++)
-                c->indices[c->first_index[s] + 3 * t + v] =
-                    c->corner_vertex[4 * s + hemicube_triangle_corner(t, v)];
     }
     c->vertex_count = count;
     free(slot);
-    free(source);
+    free(scope);
     return XRAD_OK;
 }
 
@@ -118,13 +157,15 @@ xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *
     keyed *keys = malloc(sa * sizeof *keys);
     out->order = malloc(sa * sizeof *out->order);
     out->first_index = malloc(sa * sizeof *out->first_index);
-    out->corner_vertex = malloc(4 * sa * sizeof *out->corner_vertex);
     out->indices = malloc(6 * sa * sizeof *out->indices);
+    out->corners = malloc(6 * sa);
+    out->triangle_surface = malloc(2 * sa * sizeof *out->triangle_surface);
     out->start = malloc((sa + 1) * sizeof *out->start);
+    out->first = malloc((sa + 1) * sizeof *out->first);
     out->closed = calloc(no ? no : 1, 1);
     vec3 *lo = malloc((no ? no : 1) * sizeof *lo), *hi = malloc((no ? no : 1) * sizeof *hi);
-    if (!keys || !out->order || !out->first_index || !out->corner_vertex || !out->indices ||
-        !out->start || !out->closed || !lo || !hi) {
+    if (!keys || !out->order || !out->first_index || !out->indices || !out->corners || !out->triangle_surface ||
+        !out->start || !out->first || !out->closed || !lo || !hi) {
         free(keys);
         free(lo);
         free(hi);
@@ -176,6 +217,7 @@ xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *
         uint32_t tris = hemicube_surface_triangles(sf);
         bool new_object = k == 0 || scene->surfaces[out->order[k - 1]].object != sf->object;
         if (new_object || triangles + tris > HEMICUBE_CLUSTER_TRIANGLES) {
+            out->first[out->count] = out->first_index[s];
             out->start[out->count++] = k;
             triangles = 0;
             if (!scene->objects[sf->object].dynamic)
@@ -184,6 +226,7 @@ xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *
         triangles += tris;
     }
     out->start[out->count] = ns;
+    out->first[out->count] = index;
     out->index_count = index;
     free(keys);
     xrad_status st = share_vertices(scene, out, err);

@@ -25,7 +25,7 @@
  * seen again, not one that adds up per frame.
  *
  *  1. Old pose (Algorithm 4.3 lines 3-5, first part of R_p(M, C)): copy
- *     the hemicube vertex positions (the old geometry of M, for step 3), capture
+ *     the hemicube vertices (the old geometry of M, for step 3), capture
  *     each fixed patch of M's shot radiosity and shoot it negated to the
  *     elements of C through an ID hemicube at the patch's old front frame
  *     (dynamic_patches_pose), with the old form factor.
@@ -65,6 +65,7 @@
 #include "passes/hemicube.h"
 #include "passes/hemicube_geometry.h"
 #include "passes/incremental_reconstruct.h"
+#include "hemicube_shared.h"
 #include "radiosity.h"
 #include "scene/scene.h"
 #include "solvers/dynamic_patches.h"
@@ -91,7 +92,7 @@ typedef struct incremental {
     uint32_t chunks_per_submission;
     hemicube_pass *old_ids, *new_ids;
     incremental_reconstruct_pass *pass;
-    gpu_buffer prev_positions; /* the hemicube vertices' positions at the old pose */
+    gpu_buffer prev_vertices; /* struct gpu_hemicube_vertex[vertex_count]: the old pose */
     gpu_buffer prev_surfaces; /* struct gpu_surface[surface_count]: the old pose */
     gpu_buffer b_before;      /* vec4[element_count]: B as the INCREMENT step found it */
     gpu_buffer shooters;      /* struct gpu_shooter[m_count + c_capacity], device */
@@ -119,7 +120,7 @@ static void destroy_state(xrad_solver *s, incremental *inc)
     gpu_buffer_destroy(s->ctx, &inc->values);
     gpu_buffer_destroy(s->ctx, &inc->staging);
     gpu_buffer_destroy(s->ctx, &inc->shooters);
-    gpu_buffer_destroy(s->ctx, &inc->prev_positions);
+    gpu_buffer_destroy(s->ctx, &inc->prev_vertices);
     gpu_buffer_destroy(s->ctx, &inc->prev_surfaces);
     gpu_buffer_destroy(s->ctx, &inc->b_before);
     free(inc->fixed);
@@ -182,11 +183,10 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
         .redistribution = true,
     };
     if ((st = gpu_buffer_create(ctx, (VkDeviceSize)(gs->vertex_count ? gs->vertex_count : 1) *
-                                         3 * sizeof(float),
+                                         sizeof(struct gpu_hemicube_vertex),
                                 VK_BUFFER_USAGE_VERTEX_BUFFER_BIT |
-                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                     VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                                GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &inc->prev_positions, err)) ||
+                                GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &inc->prev_vertices, err)) ||
         (st = gpu_buffer_create(ctx,
                                 (VkDeviceSize)(gs->surface_count ? gs->surface_count : 1) *
                                     sizeof(struct gpu_surface),
@@ -433,15 +433,16 @@ static void compute_barrier(VkCommandBuffer cmd)
 }
 
 /* Copies the host's shooters [first, first + count) into the table (and,
- * for the old pose, the vertex positions and the surfaces), before the
+ * for the old pose, the hemicube vertices and the surfaces), before the
  * hemicubes' vertex stages and the compute steps read them. */
 static void record_upload(xrad_solver *s, incremental *inc, VkCommandBuffer cmd, uint32_t first,
                           uint32_t count, bool vertices)
 {
     if (vertices) {
-        VkBufferCopy v = {0, 0, (VkDeviceSize)s->gs.vertex_count * 3 * sizeof(float)};
+        VkBufferCopy v = {0, 0,
+                          (VkDeviceSize)s->gs.vertex_count * sizeof(struct gpu_hemicube_vertex)};
         if (s->gs.vertex_count)
-            vkCmdCopyBuffer(cmd, s->gs.positions.buffer, inc->prev_positions.buffer, 1, &v);
+            vkCmdCopyBuffer(cmd, s->gs.vertices.buffer, inc->prev_vertices.buffer, 1, &v);
         VkBufferCopy f = {0, 0, (VkDeviceSize)s->gs.surface_count * sizeof(struct gpu_surface)};
         if (s->gs.surface_count)
             vkCmdCopyBuffer(cmd, s->gs.surfaces.buffer, inc->prev_surfaces.buffer, 1, &f);
@@ -458,7 +459,7 @@ static void record_upload(xrad_solver *s, incremental *inc, VkCommandBuffer cmd,
 }
 
 /* One chunk, shooters [first, first + n): its ID hemicubes and the
- * reconstruction. NEGATIVE: M's patches at the old pose (the positions
+ * reconstruction. NEGATIVE: M's patches at the old pose (the vertices
  * still holds it); INCREMENT: C's patches, old vertices and new. The
  * render pass orders each hemicube image after the previous chunk's
  * reconstruction read it. */
@@ -476,7 +477,7 @@ static void record_chunk(xrad_solver *s, incremental *inc, VkCommandBuffer cmd, 
     if (mode == INCR_MODE_INCREMENT) {
         /* Lines 11-12: the same frame with the old geometry of M and the new. */
         hemicube_draw old = d;
-        old.mesh.positions = &inc->prev_positions;
+        old.mesh.vertices = &inc->prev_vertices;
         hemicube_record(inc->old_ids, cmd, &old);
         hemicube_record(inc->new_ids, cmd, &d);
         s->stats.hemicubes += 2 * n;
@@ -494,7 +495,7 @@ static void record_chunk(xrad_solver *s, incremental *inc, VkCommandBuffer cmd, 
 /* Ends, submits and waits for a command buffer, then reads its timers. */
 static xrad_status finish(xrad_solver *s, gpu_cmd *c, xrad_error *err)
 {
-    /* B, Bu, the powers and the copied positions are complete for the host
+    /* B, Bu, the powers and the copied vertices are complete for the host
      * and for later submissions (the pose upload, the progressive
      * iterations, gpu_scene_read). */
     gpu_memory_barrier(c->cmd,

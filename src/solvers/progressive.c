@@ -234,11 +234,9 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
          * bounds, at the diameter of the pose (gpu_scene_pose). */
         p->cull_params.margin = 4 * HEMICUBE_HAIR_FRACTION * s->gs.diameter;
         hemicube_cull_record(p->cull, cmd, &p->cull_params);
-        /* The draws read the commands, and the vertex stage their first
-         * indices (hemicube_shared.h). */
         gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                           draw_reads,
-                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT);
+                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
+                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
     }
     hemicube_record_ids(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
                         offsetof(struct select_status, draw_index_count),

@@ -90,10 +90,8 @@ static xrad_status render(xrad_context *ctx, const gpu_scene *gs, hemicube_pass 
                                     .instances = hemicube_instances_per_hemicube(pass),
                                     .margin = 4 * HEMICUBE_HAIR_FRACTION * gs->diameter});
         gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT |
-                               VK_PIPELINE_STAGE_VERTEX_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
-                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_SHADER_READ_BIT |
-                               VK_ACCESS_HOST_READ_BIT);
+                           VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                           VK_ACCESS_INDIRECT_COMMAND_READ_BIT | VK_ACCESS_HOST_READ_BIT);
         d.commands = commands;
         d.command_count = gs->cluster_count;
     }
