@@ -458,13 +458,15 @@ typedef struct xrad_solver_desc {
      * it sends (point form factors, nearest-texel visibility); default 0 =
      * ON. */
     uint32_t conserve;
-    /* progressive shots (all methods but gather): XRAD_CULL_ON leaves out
-     * of a shot's ID hemicubes the clusters of triangles behind every
-     * hemicube's base and the clusters of a closed mesh's outside that
-     * face away from every origin (the picture does not change; vertex
-     * work is the hemicube's cost). Default 0 = AUTO: on where the scene
-     * has at least XRAD_CULL_MIN_CLUSTERS clusters of 256 triangles (in a
-     * scene of a few boxes the extra dispatch costs more than it saves). */
+    /* progressive shots (all methods but gather) and gather's hemicubes:
+     * XRAD_CULL_ON leaves out of each draw of hemicubes the clusters of
+     * triangles behind every hemicube's base and the clusters of a closed
+     * mesh's outside that face away from every origin (the picture does
+     * not change; vertex work is the hemicube's cost). Default 0 = AUTO: on
+     * for shots where the scene has at least XRAD_CULL_MIN_CLUSTERS
+     * clusters of 256 triangles (in a scene of a few boxes the extra
+     * dispatch costs more than it saves), off for gather (its batches of
+     * neighbouring elements see nearly all of a room). */
     uint32_t cull;
 } xrad_solver_desc;
 

@@ -57,7 +57,7 @@ void main()
     if (k >= pc.cluster_count)
         return;
     gpu_cluster c = clusters[k];
-    uint hemicubes = status[pc.count_word];
+    uint hemicubes = pc.count_word == CULL_NO_COUNT ? pc.count : status[pc.count_word];
     bool seen = false;
     for (uint h = 0; h < hemicubes && !seen; h++) {
         gpu_shooter f = frames[pc.first + h];

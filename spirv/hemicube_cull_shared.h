@@ -14,6 +14,7 @@
 #define CULL_BINDING_COMMANDS 3 /* VkDrawIndexedIndirectCommand[]: one per cluster, written */
 
 #define CULL_GROUP 64u
+#define CULL_NO_COUNT 0xffffffffu /* cull_push.count_word: the count is cull_push.count */
 
 /* A run of hemicube triangles (whole surfaces of one object, gpu_scene.h)
  * and its bounds at the pose the positions hold, world space. */
@@ -30,11 +31,12 @@ struct gpu_cluster {
 struct cull_push {
     uint cluster_count;
     uint first;       /* frame of hemicube 0 */
-    uint count_word;  /* uint of STATUS holding the shot's hemicube count */
+    uint count_word;  /* uint of STATUS holding the shot's hemicube count, or CULL_NO_COUNT */
     uint instances;   /* each command's instanceCount; 0: STATUS's uint at instance_word */
     uint instance_word;
     float margin;     /* m: tests pass only by more than this (the origin's hair, rounding) */
-    float pad0, pad1;
+    uint count;       /* the number of hemicubes where count_word is CULL_NO_COUNT */
+    float pad0;
 };
 
 #endif

@@ -17,6 +17,7 @@
 #include <vulkan/vulkan.h>
 
 #include "gpu/buffer.h"
+#include "hemicube_cull_shared.h"
 #include "xrad.h"
 
 struct xrad_context;
@@ -26,14 +27,16 @@ typedef struct hemicube_cull_pass hemicube_cull_pass;
 typedef struct hemicube_cull_buffers {
     const gpu_buffer *clusters; /* struct gpu_cluster[] (gpu_scene.clusters) */
     const gpu_buffer *frames;   /* struct gpu_shooter[]: the hemicubes' frames */
-    const gpu_buffer *status;   /* the uints holding the hemicube count (and instanceCount) */
+    const gpu_buffer *status;   /* the uints holding the hemicube count (and instanceCount); any
+                                   buffer where the host gives both */
     const gpu_buffer *commands; /* VkDrawIndexedIndirectCommand[cluster_count], INDIRECT | STORAGE */
 } hemicube_cull_buffers;
 
 typedef struct hemicube_cull_params {
     uint32_t cluster_count;  /* the first clusters of the table: all, or the static ones */
     uint32_t first;          /* frame of hemicube 0 */
-    uint32_t count_word;     /* uint of status: the number of hemicubes */
+    uint32_t count_word;     /* uint of status: the number of hemicubes; CULL_NO_COUNT: count */
+    uint32_t count;
     uint32_t instances;      /* each command's instanceCount; 0: status's instance_word */
     uint32_t instance_word;
     double margin;           /* m: a test culls only by more than this */

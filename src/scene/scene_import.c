@@ -20,6 +20,7 @@
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/version.h>
 #include <cjson/cJSON.h>
 
 #include "core/error.h"
@@ -429,16 +430,21 @@ static xrad_status take_camera(import_ctx *c)
         world = mul(&world, &node->mTransformation);
     else
         world = identity;
+    /* A glTF camera sits at its node's origin (glTF 2.0 3.10.2). assimp
+     * 5.2 also copies the node's translation into mPosition, which the
+     * node's transform then applies a second time (a camera at z = 5
+     * read as z = 10), so mPosition is not used. */
     float pos[3], dir[3], up[3];
-    apply(&world, cam->mPosition, 1, pos);
+    apply(&world, (struct aiVector3D){0, 0, 0}, 1, pos);
     apply(&world, cam->mLookAt, 0, dir);
     apply(&world, cam->mUp, 0, up);
     /* camera.h calls mHorizontalFOV a half angle, but assimp's glTF 2
-     * importer stores the whole horizontal angle made from yfov and the
-     * aspect (2 atan(tan(yfov / 2) aspect); yfov x aspect before 5.3):
-     * undone here, exact at aspect 1. */
-    double aspect = cam->mAspect > 0 ? cam->mAspect : 1;
-    double fov = 2 * atan(tan(0.5 * cam->mHorizontalFOV) / aspect) * 180 / PI;
+     * importer stores yfov x aspect up to 5.2 (Debian 12's: yfov 0.8 at
+     * aspect 2 reads 1.6) and the whole horizontal angle
+     * 2 atan(tan(yfov / 2) aspect) from 5.3: undone here. */
+    double aspect = cam->mAspect > 0 ? cam->mAspect : 1, h = cam->mHorizontalFOV;
+    bool product = aiGetVersionMajor() < 5 || (aiGetVersionMajor() == 5 && aiGetVersionMinor() < 3);
+    double fov = (product ? h / aspect : 2 * atan(tan(0.5 * h) / aspect)) * 180 / PI;
     xrad_camera_desc cd = {.fov_degrees = fov};
     for (int k = 0; k < 3; k++) {
         cd.position[k] = pos[k];

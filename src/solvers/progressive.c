@@ -139,9 +139,7 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
     /* Culling: one command per cluster (the static ones alone where the
      * shots see C alone). */
     uint32_t clusters = static_only ? gs->static_cluster_count : gs->cluster_count;
-    bool cull = s->desc.cull == XRAD_CULL_ON ||
-                (s->desc.cull != XRAD_CULL_OFF && clusters >= XRAD_CULL_MIN_CLUSTERS);
-    if (cull && clusters > 0) {
+    if (solver_culls(s, clusters)) {
         if ((st = gpu_buffer_create(ctx, (VkDeviceSize)clusters * sizeof(VkDrawIndexedIndirectCommand),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                         VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,

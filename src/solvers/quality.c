@@ -81,9 +81,9 @@ static const setting settings[] = {
       XRAD_SETTING_CHOICE, XRAD_CONSERVE_ON, 1, 2, "on|off"},
      SOLVER(conserve), RULE_NONE},
     {{"cull",
-      "progressive shots: leave out of the ID hemicubes what none of them can see (clusters "
-      "behind the shooter, closed meshes' clusters facing away); auto: scenes of 8 clusters "
-      "of 256 triangles or more",
+      "leave out of a draw of hemicubes what none of them can see (clusters behind every "
+      "base, closed meshes' clusters facing away); auto: shots in scenes of 8 clusters of "
+      "256 triangles or more, not gather's hemicubes",
       XRAD_SETTING_CHOICE, XRAD_CULL_AUTO, 1, 3, "on|off|auto"},
      SOLVER(cull), RULE_NONE},
     {{"density_scale", "every element density of the scene file times this (at load)",

@@ -49,6 +49,15 @@ extern const solver_ops cross_ops;
  * the timer's intervals. */
 xrad_status solver_submit_wait(struct xrad_solver *s, struct gpu_cmd *c, xrad_error *err);
 
+/* Whether hemicubes drawing `clusters` clusters of the scene are culled
+ * (passes/hemicube_cull.h): desc.cull, AUTO by the cluster count. */
+static inline bool solver_culls(const struct xrad_solver *s, uint32_t clusters)
+{
+    return clusters > 0 &&
+           (s->desc.cull == XRAD_CULL_ON ||
+            (s->desc.cull != XRAD_CULL_OFF && clusters >= XRAD_CULL_MIN_CLUSTERS));
+}
+
 /* Host monotonic clock, ms. */
 double solver_now_ms(void);
 

@@ -346,6 +346,36 @@ static void wrong_content(void)
            (const char *const[]){"asset.version is \"1.0\"", "glTF 2.0", NULL});
 }
 
+/* A glTF camera wider than high: its yfov, and an image of its aspect. */
+static void camera_aspect(void)
+{
+    static const char gltf[] =
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}],"
+        "\"nodes\":[{\"mesh\":0},{\"camera\":0,\"translation\":[0,0,5]}],"
+        "\"cameras\":[{\"type\":\"perspective\",\"perspective\":{\"yfov\":0.8,"
+        "\"aspectRatio\":2.0,\"znear\":0.1}}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+        "\"buffers\":[{\"byteLength\":42,\"uri\":\"data:application/octet-stream;base64,"
+        "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIA\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},"
+        "{\"buffer\":0,\"byteOffset\":36,\"byteLength\":6}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,"
+        "\"type\":\"VEC3\",\"min\":[0,0,0],\"max\":[1,1,0]},{\"bufferView\":1,"
+        "\"componentType\":5123,\"count\":3,\"type\":\"SCALAR\"}]}";
+    xrad_scene *sc = NULL;
+    xrad_error err = {0};
+    xrad_status st = scene_load_model_memory("camera.gltf", gltf, sizeof(gltf) - 1, &sc, &err);
+    CHECK(st == XRAD_OK, "camera.gltf: %s", err.message);
+    if (st)
+        return;
+    CHECK_REL(sc->cam.fov_y, 0.8, 1e-6);
+    CHECK(sc->cam.width == 512 && sc->cam.height == 256, "image %u x %u, want 512 x 256",
+          sc->cam.width, sc->cam.height);
+    CHECK_ABS(sc->cam.position.z, 5, 1e-6);
+    CHECK(sc->cam.look_at.z < sc->cam.position.z, "looks along +z");
+    xrad_scene_destroy(&sc);
+}
+
 static void seeds(void)
 {
     seed("obj-quad-lamp-line-point.obj", XRAD_OK,
@@ -398,5 +428,6 @@ int main(void)
     broken_files();
     seeds();
     wrong_content();
+    camera_aspect();
     return test_finish();
 }
