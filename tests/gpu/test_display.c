@@ -578,6 +578,73 @@ static const char *warped_room_scene =
     " \"camera\": {\"position\": [1.5, 1.2, 1], \"look_at\": [4, 2, 3], \"up\": [0, 1, 0],"
     "  \"fov_degrees\": 75, \"width\": 160, \"height\": 120}}";
 
+/* A closed 3 x 2.4 x 2.8 m box as one triangle mesh facing in, each wall
+ * a grid of 3 x 2 cells cut into triangles along alternating diagonals,
+ * so that a wall is many faces meeting at interior vertices: with
+ * keep_triangles each face its own tile, else the cells' pairs as quads. */
+static xrad_scene *grid_room(int keep_triangles)
+{
+    enum { NU = 3, NV = 2, WALLS = 6 };
+    static const double size[3] = {3, 2.4, 2.8};
+    float pos[WALLS * (NU + 1) * (NV + 1) * 3];
+    uint32_t idx[WALLS * NU * NV * 6], nv = 0, nt = 0;
+    for (int w = 0; w < WALLS; w++) {
+        /* Wall w: axis a = w / 2 at 0 or size, spanned by axes b and c,
+         * wound so that its front faces in. */
+        int a = w / 2, b = (a + 1) % 3, c = (a + 2) % 3;
+        bool far = w % 2;
+        uint32_t base = nv;
+        for (int j = 0; j <= NV; j++)
+            for (int i = 0; i <= NU; i++) {
+                float *v = &pos[3 * nv++];
+                v[a] = far ? (float)size[a] : 0.0f;
+                v[b] = (float)(size[b] * i / NU);
+                v[c] = (float)(size[c] * j / NV);
+            }
+        for (int j = 0; j < NV; j++)
+            for (int i = 0; i < NU; i++) {
+                uint32_t q[4] = {base + j * (NU + 1) + i, base + j * (NU + 1) + i + 1,
+                                 base + (j + 1) * (NU + 1) + i + 1, base + (j + 1) * (NU + 1) + i};
+                /* b x c is +a: counter-clockwise seen from +a, the near
+                 * wall's inside; the far wall turns round. */
+                if (far) {
+                    uint32_t t = q[1];
+                    q[1] = q[3];
+                    q[3] = t;
+                }
+                uint32_t *t = &idx[3 * nt];
+                bool flip = (i + j) % 2;
+                uint32_t tri[6] = {q[0], q[1], q[flip ? 3 : 2], q[flip ? 1 : 0], q[2], q[3]};
+                memcpy(t, tri, sizeof tri);
+                nt += 2;
+            }
+    }
+    xrad_scene_builder *b = NULL;
+    xrad_scene *scene = NULL;
+    xrad_error err = {0};
+    uint32_t grey;
+    xrad_status st;
+    if (!(st = xrad_scene_builder_create(&(xrad_scene_builder_desc){.density = 4}, &b, &err)) &&
+        !(st = xrad_scene_builder_add_material(
+              b, &(xrad_material_desc){.name = "grey", .albedo = {0.5, 0.5, 0.5}}, &grey, &err)) &&
+        !(st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "room"}, &err)) &&
+        !(st = xrad_scene_builder_add_mesh(
+              b,
+              &(xrad_mesh_desc){.name = "walls", .positions = pos, .vertex_count = nv,
+                                .indices = idx, .triangle_count = nt, .material = grey,
+                                .keep_triangles = keep_triangles},
+              &err)) &&
+        !(st = xrad_scene_builder_set_camera(
+              b,
+              &(xrad_camera_desc){.position = {0.4, 1.9, 2.5}, .look_at = {2.6, 0.4, 0.3},
+                                  .fov_degrees = 80},
+              &err)))
+        st = xrad_scene_builder_finish(b, &scene, &err);
+    xrad_scene_builder_destroy(&b);
+    CHECK(st == XRAD_OK, "grid room: %s", err.message);
+    return scene;
+}
+
 static void test_closed_rooms(xrad_context *ctx)
 {
     /* The Cornell boxes' open fronts (z = 0, m), from the scene files. */
@@ -664,6 +731,26 @@ static void test_closed_rooms(xrad_context *ctx)
         CHECK(holes == 0, "%s: %u of %u pixels show no surface", what, holes, checked);
     }
     xrad_scene_destroy(&scene);
+
+    /* Flat walls of many mesh faces: every face its own tile, or the
+     * cells' pairs joined into quads (the builder's charts). */
+    for (int keep = 0; keep < 2; keep++) {
+        scene = grid_room(keep);
+        if (!scene)
+            continue;
+        uint32_t tris = 0;
+        for (uint32_t s = 0; s < scene->surface_count; s++)
+            tris += scene->surfaces[s].triangle;
+        CHECK(keep ? tris == 72 && scene->surface_count == 72 : tris == 0 &&
+                                                                    scene->surface_count == 36,
+              "grid room: %u surfaces, %u triangles", scene->surface_count, tris);
+        char what[64];
+        snprintf(what, sizeof what, "grid room, %s", keep ? "a tile a face" : "quads");
+        uint32_t checked = 0;
+        uint32_t holes = count_holes(ctx, scene, 200, 150, NULL, &checked, what);
+        CHECK(holes == 0, "%s: %u of %u pixels show no surface", what, holes, checked);
+        xrad_scene_destroy(&scene);
+    }
 }
 
 int main(void)
