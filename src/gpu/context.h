@@ -49,6 +49,11 @@ struct xrad_context {
     PFN_vkDestroyDebugUtilsMessengerEXT destroy_messenger;
     bool validation;
     atomic_uint validation_messages;
+    /* The hemicube path check's verdict (passes/hemicube.h), found once
+     * per context: 0 until then, else 1 + the path; hemicube_check its
+     * counts (pixels, edge, wrong), written before the verdict. */
+    atomic_uint hemicube_path;
+    uint32_t hemicube_check[3];
 
     VkPhysicalDevice phys;
     VkPhysicalDeviceProperties props;

@@ -355,6 +355,16 @@ xrad_status hemicube_create_desc(struct xrad_context *ctx, const hemicube_desc *
 
     if (desc->path != HEMICUBE_PATH_AUTO)
         return create_for_path(ctx, desc, desc->path, out, err);
+    /* The device draws as it drew at the last check (issue 16: a cross
+     * solver makes six passes, and a method switch all of them again). */
+    unsigned known = atomic_load(&ctx->hemicube_path);
+    if (known) {
+        if ((s = create_for_path(ctx, desc, (hemicube_path)(known - 1), out, err)))
+            return s;
+        (*out)->check = (hemicube_check_result){ctx->hemicube_check[0], ctx->hemicube_check[1],
+                                                ctx->hemicube_check[2], true};
+        return XRAD_OK;
+    }
     const hemicube_path order[2] = {HEMICUBE_PATH_MULTIVIEW, HEMICUBE_PATH_LAYERED};
     hemicube_check_result results[2] = {{0}};
     for (int i = 0; i < 2; i++) {
@@ -367,6 +377,10 @@ xrad_status hemicube_create_desc(struct xrad_context *ctx, const hemicube_desc *
         if ((s = create_for_path(ctx, desc, order[i], out, err)))
             return s;
         (*out)->check = results[i];
+        ctx->hemicube_check[0] = results[i].pixels;
+        ctx->hemicube_check[1] = results[i].edge;
+        ctx->hemicube_check[2] = results[i].wrong;
+        atomic_store(&ctx->hemicube_path, (unsigned)order[i] + 1);
         return XRAD_OK;
     }
     return xrad_fail(err, XRAD_ERROR_SYSTEM,

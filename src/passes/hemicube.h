@@ -120,7 +120,8 @@ typedef struct hemicube_pass hemicube_pass;
 
 /* A pass with its images (max_hemicubes x 5 layers). With
  * HEMICUBE_PATH_AUTO it runs hemicube_check_path first (multiview, then
- * layered if multiview fails) and fails when no path draws correctly. */
+ * layered if multiview fails), once per context: later passes take the
+ * path it chose. Fails when no path draws correctly. */
 xrad_status hemicube_create_desc(struct xrad_context *ctx, const hemicube_desc *desc,
                                  hemicube_pass **out, xrad_error *err);
 
