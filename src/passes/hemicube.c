@@ -352,7 +352,6 @@ xrad_status hemicube_create_desc(struct xrad_context *ctx, const hemicube_desc *
     xrad_status s = check_desc(ctx, desc, err);
     if (s)
         return s;
-
     if (desc->path != HEMICUBE_PATH_AUTO)
         return create_for_path(ctx, desc, desc->path, out, err);
     /* The device draws as it drew at the last check (issue 16: a cross

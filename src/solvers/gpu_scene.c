@@ -82,7 +82,6 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
             ge->texel_x = el->texel_x;
             ge->texel_y = el->texel_y;
         }
-
     }
     /* A vertex is posed as the corner it is at (hemicube_clusters.h), so
      * the corners that share it agree to the bit with scene_surface_world. */

@@ -58,16 +58,18 @@ void hemicube_clusters_free(hemicube_clusters *c)
 }
 
 /* The vertices and the indices. Corners at one model position are one
- * vertex within a cluster (SHARE_WITHIN_CLUSTER) or an object, numbered
- * in drawing order (open addressing over the corners). Then each
+ * vertex within a cluster, numbered in drawing order (open addressing
+ * over the corners; sharing within an object instead measured the same
+ * on lavapipe, and a cluster's vertices are then a run of their own).
+ * Then each
  * triangle, in drawing order, takes one of its vertices that no triangle
  * has taken as its provoking vertex and names it first (a rotation keeps
  * the winding); where all three are taken, a copy of its first corner is
  * made for it. Closed meshes have about twice as many triangles as
  * vertices, so about half the triangles get a copy: one vertex a
  * triangle in all, against three unindexed. */
-#define SHARE_WITHIN_CLUSTER 1
 #define NO_TRIANGLE UINT32_MAX
+#define NO_CLUSTER UINT32_MAX
 
 static xrad_status share_vertices(const xrad_scene *scene, hemicube_clusters *c, xrad_error *err)
 {
@@ -76,12 +78,12 @@ static xrad_status share_vertices(const xrad_scene *scene, hemicube_clusters *c,
     while (cap < 8 * (size_t)ns)
         cap *= 2;
     uint32_t *slot = malloc(cap * sizeof *slot);      /* vertex + 1, 0: empty */
-    uint32_t *scope = malloc(most * sizeof *scope);   /* vertex -> cluster or object */
+    uint32_t *cluster = malloc(most * sizeof *cluster); /* vertex -> its cluster */
     c->vertex_source = malloc(most * sizeof *c->vertex_source);
     c->vertex_triangle = malloc(most * sizeof *c->vertex_triangle);
-    if (!slot || !scope || !c->vertex_source || !c->vertex_triangle) {
+    if (!slot || !cluster || !c->vertex_source || !c->vertex_triangle) {
         free(slot);
-        free(scope);
+        free(cluster);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "hemicube vertices: out of host memory");
     }
     memset(slot, 0, cap * sizeof *slot);
@@ -90,11 +92,10 @@ static xrad_status share_vertices(const xrad_scene *scene, hemicube_clusters *c,
         for (uint32_t i = c->start[q]; i < c->start[q + 1]; i++) {
             uint32_t s = c->order[i];
             const surface *sf = &scene->surfaces[s];
-            uint32_t key = SHARE_WITHIN_CLUSTER ? q : sf->object;
             uint32_t corner_vertex[4];
             for (int k = 0; k < 4; k++) {
                 vec3 p = sf->p[k];
-                uint64_t h = key * 0x9e3779b97f4a7c15ull;
+                uint64_t h = q * 0x9e3779b97f4a7c15ull;
                 double xyz[3] = {p.x + 0.0, p.y + 0.0, p.z + 0.0}; /* -0 and 0 alike */
                 for (int a = 0; a < 3; a++) {
                     uint64_t b;
@@ -107,13 +108,13 @@ static xrad_status share_vertices(const xrad_scene *scene, hemicube_clusters *c,
                     if (!slot[at]) {
                         c->vertex_source[count] = 4 * s + (uint32_t)k;
                         c->vertex_triangle[count] = NO_TRIANGLE;
-                        scope[count] = key;
+                        cluster[count] = q;
                         slot[at] = ++count;
                         break;
                     }
                     uint32_t v = slot[at] - 1, src = c->vertex_source[v];
                     vec3 o = scene->surfaces[src / 4].p[src % 4];
-                    if (scope[v] == key && o.x == p.x && o.y == p.y && o.z == p.z)
+                    if (cluster[v] == q && o.x == p.x && o.y == p.y && o.z == p.z)
                         break;
                 }
                 corner_vertex[k] = slot[at] - 1;
@@ -129,7 +130,7 @@ static xrad_status share_vertices(const xrad_scene *scene, hemicube_clusters *c,
                 if (first < 0) {
                     first = 0;
                     c->vertex_source[count] = 4 * s + (uint32_t)hemicube_triangle_corner(k, 0);
-                    scope[count] = NO_TRIANGLE; /* shared with nobody */
+                    cluster[count] = NO_CLUSTER; /* found by no corner */
                     v[0] = count++;
                 }
                 c->vertex_triangle[v[first]] = t;
@@ -144,7 +145,7 @@ static xrad_status share_vertices(const xrad_scene *scene, hemicube_clusters *c,
     }
     c->vertex_count = count;
     free(slot);
-    free(scope);
+    free(cluster);
     return XRAD_OK;
 }
 
@@ -164,8 +165,8 @@ xrad_status hemicube_clusters_build(const xrad_scene *scene, hemicube_clusters *
     out->first = malloc((sa + 1) * sizeof *out->first);
     out->closed = calloc(no ? no : 1, 1);
     vec3 *lo = malloc((no ? no : 1) * sizeof *lo), *hi = malloc((no ? no : 1) * sizeof *hi);
-    if (!keys || !out->order || !out->first_index || !out->indices || !out->corners || !out->triangle_surface ||
-        !out->start || !out->first || !out->closed || !lo || !hi) {
+    if (!keys || !out->order || !out->first_index || !out->indices || !out->corners ||
+        !out->triangle_surface || !out->start || !out->first || !out->closed || !lo || !hi) {
         free(keys);
         free(lo);
         free(hi);
