@@ -42,7 +42,8 @@ layout(std430, binding = HEMICUBE_BINDING_INDICES) readonly buffer Indices { uin
 
 layout(location = 0) flat in uvec2 ids; // surface, triangle
 layout(location = 1) flat in vec3 origin;
-layout(location = 2) centroid in vec3 rel;
+layout(location = 2) in vec3 rel;
+layout(location = 3) centroid in vec3 rel_c;
 
 layout(location = 0) out vec4 color;
 
@@ -71,7 +72,7 @@ void main()
     vec3 p0 = position(indices[3u * k]);
     vec3 e1 = position(indices[3u * k + 1u]) - p0, e2 = position(indices[3u * k + 2u]) - p0;
     vec3 n = cross(e1, e2);
-    vec3 d = rel - (p0 - origin);
+    vec3 d = rel_c - (p0 - origin);
     float nn = max(dot(n, n), 1e-37);
     float b1 = dot(cross(d, e2), n) / nn, b2 = dot(cross(e1, d), n) / nn;
     vec3 uvw = tri.uvw[0].xyz + b1 * (tri.uvw[1].xyz - tri.uvw[0].xyz) +

@@ -21,7 +21,11 @@ layout(location = HEMICUBE_ATTR_IDS) in uvec2 in_ids; // surface, triangle
 // origin, the same at every vertex.
 layout(location = 0) flat out uvec2 ids;    // surface, triangle
 layout(location = 1) flat out vec3 origin;  // m, world: the hemicube's (moved) origin
-layout(location = 2) centroid out vec3 rel; // m: the point from the origin
+layout(location = 2) out vec3 rel;          // m: the point from the origin, at the pixel centre
+// The same at a covered sample (centroid): where the radiosity variant's
+// atlas coordinate is taken, inside the triangle (its distance, the back
+// hemicubes' depth, stays at the centre, as the resolve expects).
+layout(location = 3) centroid out vec3 rel_c;
 
 void main()
 {
@@ -53,4 +57,5 @@ void main()
     ids = in_ids;
     origin = o;
     rel = d;
+    rel_c = d;
 }
