@@ -18,7 +18,7 @@
  * vertex a triangle in all (heavy-sphere: 103,877 for 100,838), against
  * three unindexed. Per ID hemicube on lavapipe (64 x 64, 32 hemicubes a
  * draw), unindexed -> indexed: heavy-sphere 28 -> 15 ms, wuson-room 3.9 ->
- * 3.3 ms, a 5,120-face ball in a room 2.3 -> 2.2 ms.
+ * 3.2-3.6 ms, a 5,120-face ball in a room 2.3 -> 2.2 ms.
  * An object whose surfaces close up (every edge shared by exactly two of
  * them, wound opposite ways) with their fronts outside (positive volume)
  * gets normal cones: seen from outside, its back faces lie behind its
