@@ -64,11 +64,11 @@ void main()
         seen = seen_from(c, f.pos_area.xyz, normalize(f.normal.xyz));
     }
     // VkDrawIndexedIndirectCommand: indexCount, instanceCount, firstIndex,
-    // vertexOffset, firstInstance. firstIndex stays where the cluster is
-    // culled: the hemicube pass reads the draw's first triangle from it.
-    commands[5 * k + 0] = seen ? c.index_count : 0u;
-    commands[5 * k + 1] = pc.instances != 0u ? pc.instances : status[pc.instance_word];
-    commands[5 * k + 2] = c.first_index;
-    commands[5 * k + 3] = 0u;
-    commands[5 * k + 4] = 0u;
+    // vertexOffset, firstInstance.
+    uint w = CULL_COMMAND_WORDS * k;
+    commands[w + 0] = seen ? c.index_count : 0u;
+    commands[w + 1] = pc.instances != 0u ? pc.instances : status[pc.instance_word];
+    commands[w + 2] = c.first_index;
+    commands[w + 3] = 0u;
+    commands[w + 4] = 0u;
 }

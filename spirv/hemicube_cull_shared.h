@@ -15,6 +15,7 @@
 
 #define CULL_GROUP 64u
 #define CULL_NO_COUNT 0xffffffffu /* cull_push.count_word: the count is cull_push.count */
+#define CULL_COMMAND_WORDS 5u      /* uints of one VkDrawIndexedIndirectCommand */
 
 /* A run of hemicube triangles (whole surfaces of one object, gpu_scene.h)
  * and its bounds at the pose the positions hold, world space. */

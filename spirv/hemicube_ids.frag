@@ -3,7 +3,8 @@
 // value, is "nothing") of the triangle drawn (its provoking vertex's,
 // hemicube_shared.h) and the distance of the point drawn from the
 // hemicube's origin (m, float bits; spirv/shooting.glsl's depth rule for
-// mesh faces).
+// mesh faces). The radiosity variant's inputs are declared so that both
+// fragment stages consume what the shared vertex stage writes.
 layout(location = 0) flat in uvec2 ids; // surface, triangle
 layout(location = 1) flat in vec3 origin;
 layout(location = 2) in vec3 rel;

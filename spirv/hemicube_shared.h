@@ -16,9 +16,9 @@
 
 #include "shared.h"
 
-#define HEMICUBE_BINDING_FRAMES 0    /* struct gpu_shooter[]: origin, normal, tangent per hemicube */
-#define HEMICUBE_BINDING_COUNTS 1    /* uint[]: the indirect draw command (multiview reads its count) */
-#define HEMICUBE_BINDING_ATLAS 2     /* radiosity variant: the atlas, sampled */
+#define HEMICUBE_BINDING_FRAMES 0 /* struct gpu_shooter[]: origin, normal, tangent per hemicube */
+#define HEMICUBE_BINDING_COUNTS 1 /* uint[]: the indirect draw command (multiview reads its count) */
+#define HEMICUBE_BINDING_ATLAS 2  /* radiosity variant: the atlas, sampled */
 /* Radiosity variant only: */
 #define HEMICUBE_BINDING_TRIANGLES 3 /* struct gpu_hemicube_triangle[] */
 #define HEMICUBE_BINDING_VERTICES 4  /* struct gpu_hemicube_vertex[] */
@@ -36,10 +36,6 @@ struct gpu_hemicube_vertex {
     float x, y, z; /* m, world */
     uint surface, triangle;
 };
-
-/* Words of one VkDrawIndexedIndirectCommand: indexCount, instanceCount,
- * firstIndex, vertexOffset, firstInstance. */
-#define HEMICUBE_COMMAND_WORDS 5u
 
 /* What a fragment needs of the triangle it belongs to. */
 struct gpu_hemicube_triangle {

@@ -2,10 +2,10 @@
 // (src/passes/hemicube.c): hemicube_multiview.vert defines
 // HEMICUBE_MULTIVIEW (gl_ViewIndex is the face, one render pass instance per
 // hemicube), hemicube_layered.vert does not (instance = hemicube * 5 + face,
-// written to gl_Layer). Indexed triangles whose vertices are positions
-// alone (hemicube_shared.h); the frame of each hemicube comes from the
-// frames buffer (z = normal, x = tangent, y = z x x, as spirv/hemicube.glsl
-// expects).
+// written to gl_Layer). Indexed triangles, each with a provoking vertex
+// of its own carrying its ids (hemicube_shared.h); the frame of each
+// hemicube comes from the frames buffer (z = normal, x = tangent, y = z x
+// x, as spirv/hemicube.glsl expects).
 #include "radiosity.h"
 #include "hemicube_shared.h"
 #include "hemicube.glsl"

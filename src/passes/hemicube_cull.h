@@ -29,7 +29,8 @@ typedef struct hemicube_cull_buffers {
     const gpu_buffer *frames;   /* struct gpu_shooter[]: the hemicubes' frames */
     const gpu_buffer *status;   /* the uints holding the hemicube count (and instanceCount); any
                                    buffer where the host gives both */
-    const gpu_buffer *commands; /* VkDrawIndexedIndirectCommand[cluster_count], INDIRECT | STORAGE */
+    const gpu_buffer *commands; /* VkDrawIndexedIndirectCommand[cluster_count]: INDIRECT,
+                                   STORAGE */
 } hemicube_cull_buffers;
 
 typedef struct hemicube_cull_params {

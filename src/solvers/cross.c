@@ -366,7 +366,8 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.hemicube");
     hemicube_record(c->ids, cmd,
-                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs), .index_count = gs->index_count,
+                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                                     .index_count = gs->index_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_FRONT), .count = P});
     if (c->L)
@@ -385,7 +386,8 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.gather");
     hemicube_record(c->gather, cmd,
-                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs), .index_count = gs->index_count,
+                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                                     .index_count = gs->index_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_GATHER), .count = P,
                                      .atlas = &gs->atlas, .scale = (float)c->scale});

@@ -305,20 +305,6 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                                        VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
     size_t ns = at_least_one(scene->surface_count), ne = at_least_one(scene->element_count);
     size_t nm = at_least_one(scene->material_count);
-    /* Before the layout is built: a vertex per corner and triangle at most. */
-    size_t nv = 0, ni = 0;
-    for (uint32_t k = 0; k < scene->surface_count; k++) {
-        nv += scene->surfaces[k].triangle ? 4 : 6;
-        ni += 3 * hemicube_surface_triangles(&scene->surfaces[k]);
-    }
-    nv = at_least_one(nv);
-    ni = at_least_one(ni);
-    uint64_t need = ns * sizeof(struct gpu_surface) + ne * sizeof(struct gpu_element) +
-                    nm * sizeof(struct gpu_material) + 2 * ne * sizeof(vec4) +
-                    nv * sizeof(struct gpu_hemicube_vertex) + ni * sizeof(uint32_t) +
-                    ni / 3 * sizeof(struct gpu_hemicube_triangle) +
-                    (uint64_t)at_least_one(scene->atlas_width) *
-                        at_least_one(scene->atlas_height) * 16;
     gpu_image_desc ad = gpu_scene_atlas_desc(scene);
     out->buried = calloc(ne, 1);
     out->enclosed = calloc(ne, 1);
@@ -339,7 +325,13 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
     out->vertex_count = out->layout.vertex_count;
     out->index_count = out->layout.index_count;
     out->static_index_count = out->layout.static_index_count;
-    nv = at_least_one(out->vertex_count);
+    size_t nv = at_least_one(out->vertex_count), ni = at_least_one(out->index_count);
+    uint64_t need = ns * sizeof(struct gpu_surface) + ne * sizeof(struct gpu_element) +
+                    nm * sizeof(struct gpu_material) + 2 * ne * sizeof(vec4) +
+                    nv * sizeof(struct gpu_hemicube_vertex) + ni * sizeof(uint32_t) +
+                    ni / 3 * sizeof(struct gpu_hemicube_triangle) +
+                    (uint64_t)at_least_one(scene->atlas_width) *
+                        at_least_one(scene->atlas_height) * 16;
     if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "scene data", err)) ||
         (s = gpu_buffer_create(ctx, ns * sizeof(struct gpu_surface), storage, GPU_MEM_DEVICE,
                                GPU_MEM_GEOMETRY, &out->surfaces, err)) ||

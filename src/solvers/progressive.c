@@ -140,7 +140,8 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
      * shots see C alone). */
     uint32_t clusters = static_only ? gs->static_cluster_count : gs->cluster_count;
     if (solver_culls(s, clusters)) {
-        if ((st = gpu_buffer_create(ctx, (VkDeviceSize)clusters * sizeof(VkDrawIndexedIndirectCommand),
+        if ((st = gpu_buffer_create(ctx,
+                                    (VkDeviceSize)clusters * sizeof(VkDrawIndexedIndirectCommand),
                                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                         VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                     GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &p->commands, err)) ||

@@ -24,7 +24,6 @@
 #include "passes/hemicube.h"
 #include "passes/hemicube_cull.h"
 #include "passes/hemicube_geometry.h"
-#include "hemicube_shared.h"
 #include "radiosity.h"
 #include "scene/scene.h"
 #include "solvers/gpu_scene.h"
@@ -112,7 +111,7 @@ static xrad_status render(xrad_context *ctx, const gpu_scene *gs, hemicube_pass 
         const uint32_t *cmds = commands->alloc.mapped;
         *drawn = 0;
         for (uint32_t q = 0; q < gs->cluster_count; q++)
-            *drawn += cmds[HEMICUBE_COMMAND_WORDS * q];
+            *drawn += cmds[CULL_COMMAND_WORDS * q];
     }
     return s;
 }
@@ -192,7 +191,8 @@ int main(void)
                                GPU_MEM_GEOMETRY, &frames, &err)) ||
         (s = gpu_buffer_create(ctx, 16, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
                                GPU_MEM_OTHER, &status, &err)) ||
-        (s = gpu_buffer_create(ctx, (VkDeviceSize)gs.cluster_count * sizeof(VkDrawIndexedIndirectCommand),
+        (s = gpu_buffer_create(ctx, (VkDeviceSize)gs.cluster_count *
+                                   sizeof(VkDrawIndexedIndirectCommand),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                    VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                GPU_MEM_READBACK, GPU_MEM_OTHER, &commands, &err)) ||
