@@ -45,6 +45,8 @@ layout(std430, binding = CROSS_UPDATE_BINDING_FRAMES) readonly buffer Frames { g
 // hemicube of its patch sits (solvers/dynamic_patches.c).
 float knot(uint c, uint n)
 {
+    if (n < 2u)
+        return 0.5;
     float h = 1.0 / float(n - 1u);
     return 0.5 * (max(0.0, (float(c) - 0.5) * h) + min(1.0, (float(c) + 0.5) * h));
 }
@@ -143,8 +145,8 @@ void main()
     uint cx = patches[first].cx, cy = patches[first].cy;
     uint ke = k - sf.first_element;
     uint c0x, c0y;
-    float fx = bracket(float(ke % sf.nu) / float(sf.nu - 1u), cx, c0x);
-    float fy = bracket(float(ke / sf.nu) / float(sf.nv - 1u), cy, c0y);
+    float fx = bracket(float(ke % sf.nu) / float(max(sf.nu, 2u) - 1u), cx, c0x);
+    float fy = bracket(float(ke / sf.nu) / float(max(sf.nv, 2u) - 1u), cy, c0y);
     vec2 f = vec2(fx, fy);
     uint p00 = first + c0y * cx + c0x;
     vec3 g = mix(mix(gathered[p00].rgb, gathered[p00 + 1u].rgb, f.x),

@@ -33,8 +33,12 @@ struct gpu_surface {
      * patch_first + k) whoever shoots it, so that removal and insertion
      * see through the same hemicube texels. */
     uint patches_s, patches_t, patch_first;
-    uint mesh; /* 1: a face of a triangle mesh (scene.h surface.mesh) */
+    uint mesh; /* GPU_SURFACE_MESH: a face of a triangle mesh (scene.h surface.mesh);
+                  GPU_SURFACE_TRIANGLE as well where it is a triangle */
 };
+
+#define GPU_SURFACE_MESH 1u
+#define GPU_SURFACE_TRIANGLE 2u
 
 struct gpu_element {
     vec4 pos_area; /* world sample point (corner samples moved inward), area m^2 */

@@ -51,6 +51,8 @@ vec3 bilinear(gpu_surface sf, float s, float t)
 // (src/scene/scene.h).
 vec2 param_range(uint i0, uint i1, uint n)
 {
+    if (n < 2u)
+        return vec2(0.0, 1.0); // a tiny triangle's one element (scene.h)
     float h = 1.0 / float(n - 1u);
     return vec2(max(0.0, (float(i0) - 0.5) * h), min(1.0, (float(i1) + 0.5) * h));
 }

@@ -210,6 +210,8 @@ vec3 shooting_bilinear(gpu_surface sf, float s, float t)
 // (src/scene/scene.h), as in select.comp.
 vec2 shooting_param_range(uint i0, uint i1, uint n)
 {
+    if (n < 2u)
+        return vec2(0.0, 1.0); // a tiny triangle's one element (scene.h)
     float h = 1.0 / float(n - 1u);
     return vec2(max(0.0, (float(i0) - 0.5) * h), min(1.0, (float(i1) + 0.5) * h));
 }
@@ -239,11 +241,14 @@ float shooting_point_to_quad(vec3 x, vec3 n, vec3 q[4])
     return abs(sum) / (2.0 * SHOOTING_PI);
 }
 
-// The receiver point of element (i, j) of surface sf: the centroid of its cell.
+// The receiver point of element (i, j) of surface sf: the midpoint of its
+// cell, and a tiny triangle's centroid for its one element
+// (scene_cell_centre).
 vec3 shooting_cell_centroid(gpu_surface sf, uint i, uint j)
 {
     vec2 rs = shooting_param_range(i, i, sf.nu), rt = shooting_param_range(j, j, sf.nv);
-    return shooting_bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y));
+    bool lone = sf.nv < 2u && (sf.mesh & GPU_SURFACE_TRIANGLE) != 0u;
+    return shooting_bilinear(sf, 0.5 * (rs.x + rs.y), lone ? 1.0 / 3.0 : 0.5 * (rt.x + rt.y));
 }
 
 // The form factor from the receiver point x (normal ne) to the patch sh of

@@ -50,6 +50,14 @@ static vec3 drawn_point(const surface *sf, double s, double t)
     return v3_mad(surface_point(sf, s, t), sf->normal, lift);
 }
 
+/* Drawn vertices along a side of n samples: one a sample, and a lone
+ * sample (a tiny triangle's one element, scene.h) drawn from both ends of
+ * the side. */
+static uint32_t drawn_along(uint32_t n)
+{
+    return n < 2 ? 2 : n;
+}
+
 xrad_status display_mesh_build(const xrad_scene *scene, double time, vec3 origin,
                                display_mesh *mesh, xrad_error *err)
 {
@@ -57,8 +65,9 @@ xrad_status display_mesh_build(const xrad_scene *scene, double time, vec3 origin
     uint64_t nv = 0, ni = 0;
     for (uint32_t s = 0; s < scene->surface_count; s++) {
         const surface *sf = &scene->surfaces[s];
-        nv += (uint64_t)sf->nu * sf->nv;
-        ni += 6ull * (sf->nu - 1) * (sf->nv - 1);
+        uint64_t du = drawn_along(sf->nu), dv = drawn_along(sf->nv);
+        nv += du * dv;
+        ni += 6 * (du - 1) * (dv - 1);
     }
     if (nv > UINT32_MAX || ni > UINT32_MAX)
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: %llu element samples are too many to draw",
@@ -87,15 +96,16 @@ xrad_status display_mesh_build(const xrad_scene *scene, double time, vec3 origin
             tile[2] = el[e].texel_x > tile[2] ? el[e].texel_x : tile[2];
             tile[3] = el[e].texel_y > tile[3] ? el[e].texel_y : tile[3];
         }
-        uint32_t base = v;
-        for (uint32_t j = 0; j < sf->nv; j++) {
-            for (uint32_t i = 0; i < sf->nu; i++) {
+        uint32_t base = v, du = drawn_along(sf->nu), dw = drawn_along(sf->nv);
+        for (uint32_t j = 0; j < dw; j++) {
+            for (uint32_t i = 0; i < du; i++) {
                 /* The element sample parameters of scene.h; the displayed
                  * vertex sits on the exact sample, not on the inward-moved
-                 * corner point used for radiosity. */
-                vec3 p = drawn_point(sf, (double)i / (sf->nu - 1), (double)j / (sf->nv - 1));
+                 * corner point used for radiosity. A lone sample's value
+                 * is drawn over its whole side. */
+                vec3 p = drawn_point(sf, (double)i / (du - 1), (double)j / (dw - 1));
                 vec3 w = v3_sub(xf_point(&pose, p), origin);
-                const element *e = &el[j * sf->nu + i];
+                const element *e = &el[(j < sf->nv ? j : 0) * sf->nu + (i < sf->nu ? i : 0)];
                 display_vertex *dv = &mesh->vertices[v++];
                 dv->pos[0] = (float)w.x;
                 dv->pos[1] = (float)w.y;
@@ -105,9 +115,9 @@ xrad_status display_mesh_build(const xrad_scene *scene, double time, vec3 origin
                 memcpy(dv->tile, tile, sizeof(tile));
             }
         }
-        for (uint32_t j = 0; j + 1 < sf->nv; j++) {
-            for (uint32_t i = 0; i + 1 < sf->nu; i++) {
-                uint32_t a = base + j * sf->nu + i, b = a + 1, c = a + sf->nu + 1, d = a + sf->nu;
+        for (uint32_t j = 0; j + 1 < dw; j++) {
+            for (uint32_t i = 0; i + 1 < du; i++) {
+                uint32_t a = base + j * du + i, b = a + 1, c = a + du + 1, d = a + du;
                 uint32_t *q = &mesh->indices[k];
                 q[0] = a, q[1] = b, q[2] = c, q[3] = a, q[4] = c, q[5] = d;
                 k += 6;

@@ -37,14 +37,6 @@ static vec3 bilinear(const vec3 c[4], double s, double t)
     return v3_lerp(v3_lerp(c[0], c[1], s), v3_lerp(c[3], c[2], s), t);
 }
 
-/* Parameter range of sample i of n: within half a spacing, clipped. */
-static void cell_range(uint32_t i, uint32_t n, double *lo, double *hi)
-{
-    double h = 1.0 / (n - 1), c = i * h;
-    *lo = fmax(0.0, c - 0.5 * h);
-    *hi = fmin(1.0, c + 0.5 * h);
-}
-
 void ref_geometry_destroy(ref_geometry **geometry)
 {
     if (!geometry || !*geometry)
@@ -119,8 +111,8 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
         const surface *sf = &scene->surfaces[el->surface];
         const ref_quad *q = &g->quads[el->surface];
         double s0, s1, t0, t1;
-        cell_range(el->i, sf->nu, &s0, &s1);
-        cell_range(el->j, sf->nv, &t0, &t1);
+        scene_param_range(el->i, el->i, sf->nu, &s0, &s1);
+        scene_param_range(el->j, el->j, sf->nv, &t0, &t1);
         /* The receiver point is the centroid of the element's cell, as
          * in the GPU methods (spirv/shooting.glsl): an element's value is
          * the mean over its cell by the midpoint rule, the quantity every
@@ -130,7 +122,9 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
          * neighbour's form factor drops from 1/2 just inside to 0 in its
          * plane) and, on a planarised quad, may sit a hair behind the
          * neighbour (cornell-box's floor along the red wall read 0). */
-        vec3 p = bilinear(q->p, 0.5 * (s0 + s1), 0.5 * (t0 + t1));
+        double sc, tc;
+        scene_cell_centre(sf, el->i, el->j, &sc, &tc);
+        vec3 p = bilinear(q->p, sc, tc);
         g->surface_of[e] = el->surface;
         g->recv[e] = p;
         g->normal[e] = q->normal;

@@ -19,6 +19,11 @@
  * in every texel it reads and no gap needs filling (Wallner 3.1 fills the
  * texels a rasterised triangle leaves out). The areas are exact: the
  * Jacobian is linear in t, constant in s.
+ *
+ * A triangle no longer than one sample spacing either way (a tiny mesh
+ * face) has nu = nv = 1: one element, one texel, sampled and evaluated
+ * at its centroid (s = 1/2, t = 1/3), standing for the whole triangle.
+ * Quads always have at least 2 x 2.
  */
 #ifndef XRAD_SCENE_H
 #define XRAD_SCENE_H
@@ -91,7 +96,7 @@ typedef struct surface {
     vec3 p[4];     /* m, object space */
     vec3 normal;   /* object space, unit */
     double area;   /* m^2 */
-    uint32_t nu, nv; /* element samples along s and t, each >= 2 */
+    uint32_t nu, nv; /* element samples along s and t, each >= 2, or 1 x 1 (a tiny triangle) */
     uint32_t first_element;
     uint32_t tile_x, tile_y; /* atlas texel of element (0, 0) */
     double planarise_offset; /* m moved to make the quad planar; 0 if it was */
@@ -164,6 +169,15 @@ xform scene_object_pose(const xrad_scene *scene, uint32_t object, double t);
 /* World-space corners and normal of a surface at time t. */
 void scene_surface_world(const xrad_scene *scene, uint32_t surface, double t,
                          vec3 corners[4], vec3 *normal);
+
+/* The parameter interval [lo, hi] of samples i0..i1 of n along a side:
+ * within half a spacing of them, clipped to [0, 1]; a lone sample (n = 1)
+ * stands for the whole side. */
+void scene_param_range(uint32_t i0, uint32_t i1, uint32_t n, double *lo, double *hi);
+
+/* The parameters (s, t) of element (i, j)'s receiver point: the midpoint
+ * of its cell, and a tiny triangle's centroid for its one element. */
+void scene_cell_centre(const surface *sf, uint32_t i, uint32_t j, double *s, double *t);
 
 /* The receiver point of element e of surface s, object space: the
  * centroid of its cell (the part of the surface it stands for). Every

@@ -153,13 +153,27 @@ static double jacobian(const surface *sf, double s, double t)
     return v3_dot(sf->normal, v3_cross(ds, dt));
 }
 
-/* The element's cell [c - h/2, c + h/2] clipped to [0, 1]. */
-static void cell(uint32_t i, uint32_t n, double *lo, double *hi)
+void scene_param_range(uint32_t i0, uint32_t i1, uint32_t n, double *lo, double *hi)
 {
+    if (n < 2) {
+        *lo = 0.0;
+        *hi = 1.0;
+        return;
+    }
     double h = 1.0 / (n - 1);
-    double c = i * h;
-    *lo = fmax(0.0, c - 0.5 * h);
-    *hi = fmin(1.0, c + 0.5 * h);
+    *lo = fmax(0.0, (i0 - 0.5) * h);
+    *hi = fmin(1.0, (i1 + 0.5) * h);
+}
+
+void scene_cell_centre(const surface *sf, uint32_t i, uint32_t j, double *s, double *t)
+{
+    double s0, s1, t0, t1;
+    scene_param_range(i, i, sf->nu, &s0, &s1);
+    scene_param_range(j, j, sf->nv, &t0, &t1);
+    *s = 0.5 * (s0 + s1);
+    /* A lone row of a triangle is the whole triangle: its Jacobian is
+     * proportional to 1 - t, so its centroid lies at t = 1/3. */
+    *t = sf->triangle && sf->nv < 2 ? 1.0 / 3.0 : 0.5 * (t0 + t1);
 }
 
 /* Sample parameter of index i of n, corners pulled inward along the
@@ -177,15 +191,23 @@ static void fill_surface_elements(const xrad_scene *scene, uint32_t si)
     const surface *sf = &scene->surfaces[si];
     for (uint32_t j = 0; j < sf->nv; j++) {
         double t0, t1;
-        cell(j, sf->nv, &t0, &t1);
+        scene_param_range(j, j, sf->nv, &t0, &t1);
         bool edge_j = j == 0 || j == sf->nv - 1;
         for (uint32_t i = 0; i < sf->nu; i++) {
             double s0, s1;
-            cell(i, sf->nu, &s0, &s1);
+            scene_param_range(i, i, sf->nu, &s0, &s1);
             bool corner = edge_j && (i == 0 || i == sf->nu - 1);
             element *e = &scene->elements[sf->first_element + j * sf->nu + i];
-            e->pos = surface_point(sf, sample_param(i, sf->nu, corner),
-                                   sample_param(j, sf->nv, corner));
+            if (sf->nu < 2 || sf->nv < 2) {
+                /* A tiny triangle's one element: sampled where it is
+                 * evaluated, at its centroid. */
+                double s, t;
+                scene_cell_centre(sf, i, j, &s, &t);
+                e->pos = surface_point(sf, s, t);
+            } else {
+                e->pos = surface_point(sf, sample_param(i, sf->nu, corner),
+                                       sample_param(j, sf->nv, corner));
+            }
             /* The Jacobian is bilinear on a planar quad, so its value at the
              * clipped cell's midpoint times the cell's size is the exact
              * integral. */

@@ -495,6 +495,11 @@ static xrad_status finish_surface(xrad_scene_builder *b, xrad_error *err, const 
                         nu, nv, s->name, SCENE_MAX_SAMPLES);
         s->nu = (uint32_t)nu;
         s->nv = (uint32_t)nv;
+        /* A triangle within one spacing either way is one element at its
+         * centroid (scene.h): its 2 x 2 samples would sit on its corners,
+         * four values for what the density resolves as one. */
+        if (s->triangle && nu <= 2 && nv <= 2)
+            s->nu = s->nv = 1;
     }
     b->elements += (uint64_t)s->nu * s->nv;
     if (b->elements > SCENE_MAX_ELEMENTS)

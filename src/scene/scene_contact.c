@@ -12,21 +12,11 @@
 
 #define SCENE_PI 3.14159265358979323846
 
-/* The parameter interval of sample i of n along a side (scene.h: the part
- * of the surface within half a sample spacing of the sample). */
-static void cell_interval(uint32_t i, uint32_t n, double *lo, double *hi)
-{
-    double h = 1.0 / (n - 1), c = i * h;
-    *lo = fmax(0.0, c - 0.5 * h);
-    *hi = fmin(1.0, c + 0.5 * h);
-}
-
 vec3 scene_element_centroid(const surface *s, const element *e)
 {
-    double s0, s1, t0, t1;
-    cell_interval(e->i, s->nu, &s0, &s1);
-    cell_interval(e->j, s->nv, &t0, &t1);
-    return surface_point(s, 0.5 * (s0 + s1), 0.5 * (t0 + t1));
+    double u, v;
+    scene_cell_centre(s, e->i, e->j, &u, &v);
+    return surface_point(s, u, v);
 }
 
 /* x inside the convex planar quad c (normal n) by at least `margin` m

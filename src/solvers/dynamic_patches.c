@@ -246,11 +246,12 @@ static xrad_status build(const xrad_scene *scene, uint32_t max_patches, double d
             a = (uint32_t)scene_samples_along(lu, ob->cross_density);
             b = (uint32_t)scene_samples_along(lv, ob->cross_density);
         }
-        /* A block holds at least one element; a coarse grid has 2 samples a side. */
+        /* A block holds at least one element; a coarse grid has 2 samples
+         * a side where the surface has them (a tiny triangle is one). */
         a = a < sf->nu ? a : sf->nu;
         b = b < sf->nv ? b : sf->nv;
-        cx[2 * s] = a < 2 ? 2 : a;
-        cx[2 * s + 1] = b < 2 ? 2 : b;
+        cx[2 * s] = a < 2 ? (sf->nu < 2 ? 1 : 2) : a;
+        cx[2 * s + 1] = b < 2 ? (sf->nv < 2 ? 1 : 2) : b;
     }
     if (!(st = build_blocks(scene, cx, out, err)))
         st = build_groups(scene, max_patches, grouped, out, err);
@@ -309,14 +310,6 @@ static vec3 bilinear(const vec3 c[4], double u, double v)
     return v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
 }
 
-/* The parameter interval covered by samples [i0, i1] of n (scene.h). */
-static void param_range(uint32_t i0, uint32_t i1, uint32_t n, double *lo, double *hi)
-{
-    double h = 1.0 / (n - 1);
-    *lo = fmax(0.0, (i0 - 0.5) * h);
-    *hi = fmin(1.0, (i1 + 0.5) * h);
-}
-
 void fixed_patch_frame(const xrad_scene *scene, uint32_t surface_index, uint32_t i0, uint32_t i1,
                        uint32_t j0, uint32_t j1, uint32_t index, uint32_t seed, double t,
                        struct gpu_shooter *frame, struct cross_quad *quad)
@@ -332,8 +325,8 @@ void fixed_patch_frame(const xrad_scene *scene, uint32_t surface_index, uint32_t
         for (uint32_t i = i0; i <= i1; i++)
             area += scene->elements[sf->first_element + j * sf->nu + i].area;
     double s0, s1, t0, t1;
-    param_range(i0, i1, sf->nu, &s0, &s1);
-    param_range(j0, j1, sf->nv, &t0, &t1);
+    scene_param_range(i0, i1, sf->nu, &s0, &s1);
+    scene_param_range(j0, j1, sf->nv, &t0, &t1);
     *frame = (struct gpu_shooter){
         .pos_area = gpu_vec4(bilinear(c, 0.5 * (s0 + s1), 0.5 * (t0 + t1)), area),
         .normal = gpu_vec4(n, 0),
@@ -452,8 +445,8 @@ void dynamic_patches_pose(const xrad_scene *scene, const dynamic_patches *dp, do
             vec3 c[4];
             double g0, g1, h0, h1;
             scene_surface_world(scene, q->surface, t, c, NULL);
-            param_range(q->ci, q->ci, q->cx, &g0, &g1);
-            param_range(q->cj, q->cj, q->cy, &h0, &h1);
+            scene_param_range(q->ci, q->ci, q->cx, &g0, &g1);
+            scene_param_range(q->cj, q->cj, q->cy, &h0, &h1);
             gather[p] = f;
             gather[p].pos_area = gpu_vec4(bilinear(c, 0.5 * (g0 + g1), 0.5 * (h0 + h1)), 0);
         }

@@ -137,15 +137,6 @@ static void destroy(xrad_solver *s)
     s->impl = NULL;
 }
 
-/* The parameter interval of sample i of n: within half a spacing, clipped
- * to the surface (scene.h). */
-static double cell_mid(uint32_t i, uint32_t n)
-{
-    double h = 1.0 / (n - 1);
-    double lo = fmax(0.0, (i - 0.5) * h), hi = fmin(1.0, (i + 0.5) * h);
-    return 0.5 * (lo + hi);
-}
-
 static vec3 bilinear(const vec3 c[4], double u, double v)
 {
     return v3_lerp(v3_lerp(c[0], c[1], u), v3_lerp(c[3], c[2], u), v);
@@ -213,8 +204,9 @@ static xrad_status build_frames(xrad_solver *s, gather *g, xrad_error *err)
                 uint32_t e = sf->first_element + j * sf->nu + i;
                 mat3 r = m3_rotation(normal, hemicube_rotation(s->desc.seed * 0x9e3779b9u + e));
                 struct gpu_shooter *fe = &f[e];
-                fe->pos_area = gpu_vec4(bilinear(c, cell_mid(i, sf->nu), cell_mid(j, sf->nv)),
-                                       scene->elements[e].area);
+                double cs, ct;
+                scene_cell_centre(sf, i, j, &cs, &ct);
+                fe->pos_area = gpu_vec4(bilinear(c, cs, ct), scene->elements[e].area);
                 fe->normal = gpu_vec4(normal, 0);
                 fe->tangent = gpu_vec4(m3_apply(&r, x0), 0);
                 fe->surface = k;

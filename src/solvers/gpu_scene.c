@@ -64,7 +64,7 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
         gsf->material = sf->material;
         gsf->object = sf->object;
         gsf->dynamic = scene->objects[sf->object].dynamic ? 1u : 0u;
-        gsf->mesh = sf->mesh ? 1u : 0u;
+        gsf->mesh = (sf->mesh ? GPU_SURFACE_MESH : 0u) | (sf->triangle ? GPU_SURFACE_TRIANGLE : 0u);
         gsf->tile_x = sf->tile_x;
         gsf->tile_y = sf->tile_y;
         if (fixed_patches) {

@@ -1,6 +1,9 @@
 /* The scene builder (xrad.h) and triangle surfaces (scene.h):
  *  - a triangle's element areas sum to its area (|e1 x e2| / 2, a closed
  *    form), every element has a positive area, its longest edge is p0 p1;
+ *  - a triangle within one spacing (1 / density) is one element: its
+ *    area, at its centroid ((a + b + c) / 3), where its receiver point is
+ *    too; one just over a spacing has 2 x 2 or more;
  *  - a quad split along a diagonal comes back as one quad of the same
  *    corners and area, also when the mesh repeats the shared vertices
  *    (welding); a fan of four triangles around a centre stays four
@@ -53,6 +56,32 @@ static xrad_scene *mesh_scene(const float *pos, uint32_t nv, const uint32_t *idx
     CHECK(st == XRAD_OK, "mesh scene: %s", err.message);
     xrad_scene_builder_destroy(&b);
     return scene;
+}
+
+static void tiny_triangle(void)
+{
+    /* Density 10, a spacing of 0.1 m: the first triangle's longest edge
+     * is 0.099 m, the second's 0.101 m. */
+    const float pos[12] = {0, 0, 0, 0.07f, 0.01f, 0, 0.02f, 0.07f, 0.05f, 0.101f, 0, 0};
+    const uint32_t idx[6] = {0, 1, 2, 0, 3, 2};
+    xrad_scene *sc = mesh_scene(pos, 4, idx, 2, NULL, 1);
+    if (!sc)
+        return;
+    CHECK(sc->surface_count == 2, "%u surfaces, want 2", sc->surface_count);
+    const surface *s = &sc->surfaces[0];
+    vec3 a = v3(0, 0, 0), b = v3(0.07, 0.01, 0), c = v3(0.02, 0.07, 0.05);
+    CHECK(s->nu == 1 && s->nv == 1, "tiny triangle: %u x %u elements, want 1 x 1", s->nu, s->nv);
+    const element *e = &sc->elements[s->first_element];
+    vec3 centroid = v3_scale(v3_add(v3_add(a, b), c), 1.0 / 3.0);
+    CHECK_REL(e->area, 0.5 * v3_len(v3_cross(v3_sub(b, a), v3_sub(c, a))), 1e-6);
+    CHECK(v3_len(v3_sub(e->pos, centroid)) < 1e-7, "tiny triangle: sample %g m from the centroid",
+          v3_len(v3_sub(e->pos, centroid)));
+    vec3 r = scene_element_centroid(s, e);
+    CHECK(v3_len(v3_sub(r, centroid)) < 1e-7,
+          "tiny triangle: receiver point %g m from the centroid", v3_len(v3_sub(r, centroid)));
+    const surface *t = &sc->surfaces[1];
+    CHECK(t->nu >= 2 && t->nv >= 2, "a triangle over a spacing: %u x %u elements", t->nu, t->nv);
+    xrad_scene_destroy(&sc);
 }
 
 static void triangle_elements(void)
@@ -282,6 +311,7 @@ static void same_as_file(void)
 int main(void)
 {
     triangle_elements();
+    tiny_triangle();
     joining();
     errors();
     same_as_file();
