@@ -1,7 +1,8 @@
 /*
  * Display pass: draws the scene from its camera with the radiosity atlas
  * (DESIGN.md "GPU passes"). Per surface a grid of nu x nv vertices at the
- * element samples, each with its element's texel centre as texture
+ * element samples (a one-element triangle's value at its three corners,
+ * drawn flat), each with its element's texel centre as texture
  * coordinate, so bilinear filtering interpolates exactly between element
  * samples and, since adjacent coplanar surfaces share boundary samples,
  * shows no seam across surfaces (thesis 4.1); nearest filtering shows the

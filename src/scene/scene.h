@@ -208,7 +208,8 @@ xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
  * enclosed. The rays go through a BVH of the surfaces (quad_bvh.h), so
  * the cost follows the elements: scenes of more than
  * SCENE_ENCLOSED_MAX_ELEMENTS are not tested (every element open; the
- * 406,135 of heavy-sphere took 35 s). `count` receives how many are
+ * 406,135 elements heavy-sphere had before its triangles became one
+ * element each took 35 s). `count` receives how many are
  * enclosed. */
 #define SCENE_ENCLOSED_MAX_ELEMENTS 100000u
 xrad_status scene_find_enclosed(const xrad_scene *scene, uint8_t *enclosed, uint32_t *count,
