@@ -176,6 +176,13 @@ void scene_cell_centre(const surface *sf, uint32_t i, uint32_t j, double *s, dou
     *t = sf->triangle && sf->nv < 2 ? 1.0 / 3.0 : 0.5 * (t0 + t1);
 }
 
+vec3 scene_element_centroid(const surface *s, const element *e)
+{
+    double u, v;
+    scene_cell_centre(s, e->i, e->j, &u, &v);
+    return surface_point(s, u, v);
+}
+
 /* Sample parameter of index i of n, corners pulled inward along the
  * diagonal by SCENE_CORNER_OFFSET of a spacing (thesis 4.1). */
 static double sample_param(uint32_t i, uint32_t n, bool corner)
@@ -198,23 +205,18 @@ static void fill_surface_elements(const xrad_scene *scene, uint32_t si)
             scene_param_range(i, i, sf->nu, &s0, &s1);
             bool corner = edge_j && (i == 0 || i == sf->nu - 1);
             element *e = &scene->elements[sf->first_element + j * sf->nu + i];
-            if (sf->nu < 2 || sf->nv < 2) {
-                /* A tiny triangle's one element: sampled where it is
-                 * evaluated, at its centroid. */
-                double s, t;
-                scene_cell_centre(sf, i, j, &s, &t);
-                e->pos = surface_point(sf, s, t);
-            } else {
-                e->pos = surface_point(sf, sample_param(i, sf->nu, corner),
-                                       sample_param(j, sf->nv, corner));
-            }
+            e->i = (uint16_t)i;
+            e->j = (uint16_t)j;
+            /* A tiny triangle's one element is sampled where it is
+             * evaluated, at its centroid. */
+            e->pos = sf->nu < 2 ? scene_element_centroid(sf, e)
+                                : surface_point(sf, sample_param(i, sf->nu, corner),
+                                                sample_param(j, sf->nv, corner));
             /* The Jacobian is bilinear on a planar quad, so its value at the
              * clipped cell's midpoint times the cell's size is the exact
              * integral. */
             e->area = jacobian(sf, 0.5 * (s0 + s1), 0.5 * (t0 + t1)) * (s1 - s0) * (t1 - t0);
             e->surface = si;
-            e->i = (uint16_t)i;
-            e->j = (uint16_t)j;
             e->texel_x = sf->tile_x + i;
             e->texel_y = sf->tile_y + j;
         }

@@ -12,13 +12,6 @@
 
 #define SCENE_PI 3.14159265358979323846
 
-vec3 scene_element_centroid(const surface *s, const element *e)
-{
-    double u, v;
-    scene_cell_centre(s, e->i, e->j, &u, &v);
-    return surface_point(s, u, v);
-}
-
 /* x inside the convex planar quad c (normal n) by at least `margin` m
  * from every edge (a negative margin admits points that far outside). */
 static bool inside_quad(const vec3 c[4], vec3 n, vec3 x, double margin)
