@@ -63,6 +63,9 @@ const float CONTACT = 1e-4;
 layout(push_constant) uniform Push { cross_reconstruct_push pc; };
 
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_BVH_NODES) readonly buffer BvhNodes { gpu_bvh_node bvh_nodes[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_BVH_ITEMS) readonly buffer BvhItems { uint bvh_items[]; };
+#define SHOOTING_BVH
 #include "shooting.glsl"
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };

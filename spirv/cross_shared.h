@@ -112,7 +112,10 @@ struct cross_update_push {
 #define CROSS_RECONSTRUCT_BINDING_LIGHT_QUADS 12
 #define CROSS_RECONSTRUCT_BINDING_LIGHT_IDS_C 13
 #define CROSS_RECONSTRUCT_BINDING_LIGHT_IDS 14
-#define CROSS_RECONSTRUCT_BINDING_COUNT 15
+/* The hierarchy over the surfaces at the pose (gpu_bvh_node, uint). */
+#define CROSS_RECONSTRUCT_BINDING_BVH_NODES 15
+#define CROSS_RECONSTRUCT_BINDING_BVH_ITEMS 16
+#define CROSS_RECONSTRUCT_BINDING_COUNT 17
 
 /* cross_reconstruct.comp phases */
 #define CROSS_RECONSTRUCT_M_DIRECT 0u /* elements of M: the direct light of C's lights */

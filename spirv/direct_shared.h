@@ -12,6 +12,9 @@
 #define DIRECT_BINDING_FRAMES 2    /* struct gpu_shooter[]: receiver point and normal */
 #define DIRECT_BINDING_LIGHTS 3    /* uint[]: indices of the emitting surfaces */
 #define DIRECT_BINDING_OUT 4       /* vec4[]: sum over lights of F x E, one per frame */
+#define DIRECT_BINDING_BVH_NODES 5 /* struct gpu_bvh_node[]: over the surfaces */
+#define DIRECT_BINDING_BVH_ITEMS 6 /* uint[] */
+#define DIRECT_BINDINGS 7
 
 #define DIRECT_GROUP 64u
 /* Most blocks along a light's side: a light is split into up to 8 x 8
@@ -22,8 +25,9 @@
 
 struct direct_push {
     uint count;       /* frames */
-    uint light_count; /* entries of lights[] */
-    uint pad0, pad1;
+    uint light_first; /* this dispatch's lights: lights[light_first, + light_count) */
+    uint light_count;
+    uint accumulate;  /* 1: add to out[] (a later chunk of the lights), 0: write it */
 };
 
 #endif

@@ -51,6 +51,9 @@ layout(local_size_x = RECONSTRUCT_GROUP) in;
 layout(push_constant) uniform Push { reconstruct_push pc; };
 
 layout(std430, binding = RECONSTRUCT_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
+layout(std430, binding = RECONSTRUCT_BINDING_BVH_NODES) readonly buffer BvhNodes { gpu_bvh_node bvh_nodes[]; };
+layout(std430, binding = RECONSTRUCT_BINDING_BVH_ITEMS) readonly buffer BvhItems { uint bvh_items[]; };
+#define SHOOTING_BVH
 #include "shooting.glsl"
 layout(std430, binding = RECONSTRUCT_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };

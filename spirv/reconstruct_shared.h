@@ -18,7 +18,9 @@
 #define RECONSTRUCT_BINDING_FF 8         /* float[max_shooters * element_count]: F, shooter-major */
 #define RECONSTRUCT_BINDING_NORM 9       /* float[max_shooters]: min(1, A_s / sum_e A_e F_es) */
 #define RECONSTRUCT_BINDING_SHOT 10      /* vec4[]: the shot surface's Bu by element (select) */
-#define RECONSTRUCT_BINDING_COUNT 11
+#define RECONSTRUCT_BINDING_BVH_NODES 11 /* gpu_bvh_node[]: over the surfaces at the pose */
+#define RECONSTRUCT_BINDING_BVH_ITEMS 12 /* uint[] */
+#define RECONSTRUCT_BINDING_COUNT 13
 
 /* With conservation, a shot takes three dispatches (see reconstruct.comp). */
 #define RECONSTRUCT_MODE_DIRECT 0u   /* F and the transfer in one pass (no conservation) */

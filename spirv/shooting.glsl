@@ -292,6 +292,7 @@ float shooting_cells(vec3 x, vec3 ne, gpu_surface sf, uint i0, uint i1, uint j0,
 // visible_blocks).
 const uint SHOOTING_NEAR_BLOCKS = 8u;
 
+#ifdef SHOOTING_BVH
 // ncand for shooting_front_hidden: test every surface, not candidates.
 // The texels towards x of a hemicube drawn from a centre behind x's plane
 // show what the centre sees, and the surface that hides the part in front
@@ -309,22 +310,76 @@ const uint SHOOTING_EVERY_SURFACE = 0xffffffffu;
 // SHOOTING_EVERY_SURFACE says, always.
 const uint SHOOTING_EVERY_QUAD = 0x80000000u;
 
+// Whether the segment from c to x meets box [lo, hi] (the slab test over
+// t in [-1e-4, 1 + 1e-4]; inv = 1 / (x - c), zero components made tiny so
+// that no 0 x inf makes a NaN).
+bool shooting_box_crossed(vec3 lo, vec3 hi, vec3 c, vec3 inv)
+{
+    vec3 t0 = (lo - c) * inv, t1 = (hi - c) * inv;
+    vec3 near = min(t0, t1), far = max(t0, t1);
+    float enter = max(max(near.x, near.y), max(near.z, -1e-4));
+    float leave = min(min(far.x, far.y), min(far.z, 1.0 + 1e-4));
+    return enter <= leave;
+}
+
+// Whether the segment from c to x crosses a surface (quads_only: a surface
+// that is not a mesh face) of the hierarchy bvh_nodes / bvh_items, which
+// the includer declares with SHOOTING_BVH: a walk down the boxes the
+// segment meets, about 2 log2(surfaces) of them, where a loop over the
+// surfaces took thousands of iterations a segment (gpu_bvh_node says what
+// that cost on lavapipe).
+bool shooting_bvh_hidden(vec3 c, vec3 x, bool quads_only)
+{
+    vec3 d = x - c;
+    vec3 inv = vec3(1.0) / mix(d, vec3(1e-30), lessThan(abs(d), vec3(1e-30)));
+    uint stack[GPU_BVH_STACK];
+    uint top = 1u;
+    stack[0] = 0u;
+    while (top > 0u) {
+        gpu_bvh_node n = bvh_nodes[stack[--top]];
+        if (!shooting_box_crossed(n.lo.xyz, n.hi.xyz, c, inv))
+            continue;
+        if (n.count == 0u) {
+            if (top + 2u <= GPU_BVH_STACK) {
+                stack[top++] = n.first + 1u;
+                stack[top++] = n.first;
+            }
+            continue;
+        }
+        for (uint k = n.first; k < n.first + n.count; k++) {
+            uint m = bvh_items[k];
+            if (quads_only && surfaces[m].mesh != 0u)
+                continue;
+            if (shooting_blocks(SHOOTING_OCCLUDER(m, false), c, x))
+                return true;
+        }
+    }
+    return false;
+}
+#endif
+
 // Whether the segment from c to x crosses one of the candidate occluders
 // cand[0, ncand), or any surface where ncand is SHOOTING_EVERY_SURFACE
 // (any but mesh faces beside the candidates with SHOOTING_EVERY_QUAD),
 // posed as the hemicube that named them was drawn (SHOOTING_OCCLUDER).
+// Every surface through the hierarchy: the flags exist where the shader
+// defines SHOOTING_BVH and declares bvh_nodes and bvh_items.
 bool shooting_segment_hidden(vec3 c, vec3 x, uint cand[9], uint ncand)
 {
-    bool every = ncand == SHOOTING_EVERY_SURFACE;
-    bool quads = !every && (ncand & SHOOTING_EVERY_QUAD) != 0u;
-    uint count_m = every ? uint(surfaces.length()) : ncand & ~SHOOTING_EVERY_QUAD;
+#ifdef SHOOTING_BVH
+    if (ncand == SHOOTING_EVERY_SURFACE)
+        return shooting_bvh_hidden(c, x, false);
+    uint count_m = ncand & ~SHOOTING_EVERY_QUAD;
+#else
+    uint count_m = ncand;
+#endif
     for (uint m = 0u; m < count_m; m++)
-        if (shooting_blocks(SHOOTING_OCCLUDER(every ? m : cand[m], false), c, x))
+        if (shooting_blocks(SHOOTING_OCCLUDER(cand[m], false), c, x))
             return true;
-    if (quads)
-        for (uint m = 0u; m < uint(surfaces.length()); m++)
-            if (surfaces[m].mesh == 0u && shooting_blocks(SHOOTING_OCCLUDER(m, false), c, x))
-                return true;
+#ifdef SHOOTING_BVH
+    if ((ncand & SHOOTING_EVERY_QUAD) != 0u)
+        return shooting_bvh_hidden(c, x, true);
+#endif
     return false;
 }
 

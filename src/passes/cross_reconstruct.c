@@ -71,6 +71,8 @@ void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *p,
         [CROSS_RECONSTRUCT_BINDING_LIGHT_QUADS] = {b->light_quads, 0},
         [CROSS_RECONSTRUCT_BINDING_LIGHT_IDS_C] = {NULL, b->light_ids_c},
         [CROSS_RECONSTRUCT_BINDING_LIGHT_IDS] = {NULL, b->light_ids},
+        [CROSS_RECONSTRUCT_BINDING_BVH_NODES] = {b->bvh_nodes, 0},
+        [CROSS_RECONSTRUCT_BINDING_BVH_ITEMS] = {b->bvh_items, 0},
     };
     gpu_kernel_bind(ctx, &p->kernel, 0, r);
 }

@@ -38,6 +38,9 @@ typedef struct cross_reconstruct_bindings {
      * lights, any buffer and ID image: light_count 0 reads none. */
     const gpu_buffer *lights, *light_quads;
     VkImageView light_ids_c, light_ids;
+    /* The hierarchy over the surfaces at the pose (gpu_bvh_node[], uint[];
+     * radiosity.h) for segment tests against every surface. */
+    const gpu_buffer *bvh_nodes, *bvh_items;
 } cross_reconstruct_bindings;
 
 typedef struct cross_reconstruct_params {

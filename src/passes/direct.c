@@ -9,12 +9,17 @@
 #include "gpu/cmd.h"
 #include "gpu/context.h"
 #include "gpu/pipeline.h"
+#include "scene/quad_bvh.h"
 
-#define DIRECT_BINDINGS 5
+/* Loop iterations an invocation may run on lavapipe before every loop
+ * of it stops after one more (LP_MAX_TGSI_LOOP_ITERATIONS, all loops
+ * together); a dispatch takes as many lights as fit in half of it. */
+#define LOOP_LIMIT 65535u
 
 struct direct_pass {
     struct xrad_context *ctx;
     uint32_t light_count;
+    uint32_t bvh_depth, lights_per_dispatch; /* for the last recording's hierarchy */
     gpu_buffer lights; /* uint[light_count] (one entry when there are none) */
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
@@ -85,6 +90,8 @@ void direct_record(direct_pass *p, VkCommandBuffer cmd, const direct_draw *d)
         [DIRECT_BINDING_FRAMES] = d->frames->buffer,
         [DIRECT_BINDING_LIGHTS] = p->lights.buffer,
         [DIRECT_BINDING_OUT] = d->out->buffer,
+        [DIRECT_BINDING_BVH_NODES] = d->bvh_nodes->buffer,
+        [DIRECT_BINDING_BVH_ITEMS] = d->bvh_items->buffer,
     };
     if (memcmp(want, p->bound, sizeof(want))) {
         VkDescriptorBufferInfo bi[DIRECT_BINDINGS];
@@ -103,10 +110,39 @@ void direct_record(direct_pass *p, VkCommandBuffer cmd, const direct_draw *d)
         vkUpdateDescriptorSets(p->ctx->device, DIRECT_BINDINGS, w, 0, NULL);
         memcpy(p->bound, want, sizeof(want));
     }
-    struct direct_push push = {.count = d->count, .light_count = p->light_count};
+    if (d->bvh_depth != p->bvh_depth || !p->lights_per_dispatch) {
+        p->bvh_depth = d->bvh_depth;
+        p->lights_per_dispatch = direct_lights_per_dispatch(d->bvh_depth);
+    }
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,
                             NULL);
-    vkCmdPushConstants(cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-    vkCmdDispatch(cmd, (d->count + DIRECT_GROUP - 1) / DIRECT_GROUP, 1, 1);
+    uint32_t first = 0;
+    do {
+        uint32_t n = p->light_count - first < p->lights_per_dispatch ? p->light_count - first
+                                                                      : p->lights_per_dispatch;
+        struct direct_push push = {.count = d->count, .light_first = first, .light_count = n,
+                                   .accumulate = first ? 1u : 0u};
+        if (first) /* this chunk adds to what the last one wrote */
+            gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                               VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                               VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+        vkCmdPushConstants(cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
+        vkCmdDispatch(cmd, (d->count + DIRECT_GROUP - 1) / DIRECT_GROUP, 1, 1);
+        first += n;
+    } while (first < p->light_count);
+}
+
+uint32_t direct_lights_per_dispatch(uint32_t bvh_depth)
+{
+    /* A light's segments at most: the (n + 1)^2 corners and n^2 blocks
+     * at n = DIRECT_MAX_BLOCKS, and the DIRECT_SPLIT^2 parts of 2 n
+     * blocks in a penumbra (a shadow's edge across the light); each a
+     * walk of about 4 steps a level of the hierarchy (the boxes the
+     * segment meets and their siblings) and a leaf's surfaces. */
+    uint32_t n = DIRECT_MAX_BLOCKS;
+    uint32_t segments = (n + 1) * (n + 1) + n * n + 2 * n * DIRECT_SPLIT * DIRECT_SPLIT;
+    uint32_t per_light = segments * (4 * bvh_depth + QUAD_BVH_LEAF + 1);
+    uint32_t k = LOOP_LIMIT / 2 / per_light;
+    return k ? k : 1;
 }

@@ -4,7 +4,7 @@
  * visibility, computed exactly per light block rather than read from
  * hemicube pixels (spirv/direct.comp has the method and why). gather uses
  * it for the first bounce; its hemicubes then carry the reflected light
- * alone. One invocation per receiver.
+ * alone. One invocation per receiver and chunk of the lights.
  */
 #ifndef XRAD_PASSES_DIRECT_H
 #define XRAD_PASSES_DIRECT_H
@@ -33,6 +33,9 @@ typedef struct direct_draw {
                                     point, normal, surface */
     uint32_t count;
     const gpu_buffer *out;       /* vec4[count], STORAGE usage: rgb the direct light */
+    const gpu_buffer *bvh_nodes; /* struct gpu_bvh_node[]: over `surfaces` (radiosity.h) */
+    const gpu_buffer *bvh_items; /* uint[] */
+    uint32_t bvh_depth;          /* its levels: how many lights a dispatch takes */
 } direct_draw;
 
 /* Records the dispatch outside any render pass. Points the descriptor set
@@ -41,5 +44,10 @@ typedef struct direct_draw {
  * orders the writes of the inputs before it and the readers of `out` after
  * it. */
 void direct_record(direct_pass *pass, VkCommandBuffer cmd, const direct_draw *draw);
+
+/* Lights per dispatch over a hierarchy of bvh_depth levels: as many as
+ * keep an invocation within half of lavapipe's 65,535 loop iterations
+ * (spirv/direct.comp), at least 1. */
+uint32_t direct_lights_per_dispatch(uint32_t bvh_depth);
 
 #endif

@@ -78,6 +78,7 @@ void reconstruct_bind(struct xrad_context *ctx, reconstruct_pass *p,
         [RECONSTRUCT_BINDING_BU] = b->Bu,             [RECONSTRUCT_BINDING_SHOOTERS] = b->shooters,
         [RECONSTRUCT_BINDING_FF] = b->ff,             [RECONSTRUCT_BINDING_NORM] = b->norm,
         [RECONSTRUCT_BINDING_STATUS] = b->status,      [RECONSTRUCT_BINDING_SHOT] = b->shot,
+        [RECONSTRUCT_BINDING_BVH_NODES] = b->bvh_nodes, [RECONSTRUCT_BINDING_BVH_ITEMS] = b->bvh_items,
     };
     VkDescriptorBufferInfo info[RECONSTRUCT_BINDING_COUNT];
     VkDescriptorImageInfo image = {

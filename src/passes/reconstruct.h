@@ -47,6 +47,9 @@ typedef struct reconstruct_bindings {
     /* vec4[]: the shot surface's unshot radiosity by element, as select
      * left it (select_buffers.shot) */
     const gpu_buffer *shot;
+    /* struct gpu_bvh_node[] and uint[]: the hierarchy over the surfaces
+     * (radiosity.h), for the segment tests against every quad */
+    const gpu_buffer *bvh_nodes, *bvh_items;
 } reconstruct_bindings;
 
 typedef struct reconstruct_params {

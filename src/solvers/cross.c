@@ -265,7 +265,8 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                                c->L ? &c->light_frames : &c->values,
                                c->L ? &c->light_quads : &c->values,
                                hemicube_ids_view(c->L ? c->light_ids_c : c->ids),
-                               hemicube_ids_view(c->L ? c->light_ids : c->ids)});
+                               hemicube_ids_view(c->L ? c->light_ids : c->ids),
+                               &gs->bvh_nodes, &gs->bvh_items});
     return XRAD_OK;
 }
 

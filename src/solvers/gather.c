@@ -165,7 +165,10 @@ static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
                                  .materials = &s->gs.materials,
                                  .frames = &g->frames,
                                  .count = n,
-                                 .out = &g->sums});
+                                 .out = &g->sums,
+                                 .bvh_nodes = &s->gs.bvh_nodes,
+                                 .bvh_items = &s->gs.bvh_items,
+                                 .bvh_depth = s->gs.bvh_depth});
     gpu_timer_end(s->timer, c.cmd);
     VkBufferCopy region = {0, 0, (VkDeviceSize)n * sizeof(vec4)};
     gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,

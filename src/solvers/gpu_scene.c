@@ -10,6 +10,7 @@
 #include "hemicube_shared.h"
 #include "radiosity.h"
 #include "solvers/hemicube_clusters.h"
+#include "solvers/surface_bvh.h"
 
 /* Host copies of the posed geometry, filled by fill_geometry. */
 typedef struct geometry {
@@ -200,6 +201,24 @@ static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, doub
         return s;
     }
     hemicube_clusters_bounds(&gs->layout, scene, g.surfaces, clusters);
+    /* The tree from the first pose; its boxes at every pose. */
+    if (!gs->bvh.nodes && scene->surface_count &&
+        !(s = surface_bvh_build(g.surfaces, gs->surface_count, &gs->bvh, &gs->bvh_depth, err)))
+        s = gpu_upload_buffer(ctx, &gs->bvh_items, 0, gs->bvh.items,
+                              gs->surface_count * sizeof(uint32_t), err);
+    struct gpu_bvh_node *nodes =
+        s ? NULL : malloc(at_least_one(gs->bvh.node_count) * sizeof *nodes);
+    if (!s && !nodes)
+        s = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for the GPU scene",
+                      scene->path);
+    if (s) {
+        free(clusters);
+        geometry_free(&g);
+        return s;
+    }
+    /* A margin of 1e-5 of the scene's size: flat quads get a thickness,
+     * and the slab test's rounding no miss. */
+    surface_bvh_refit(&gs->bvh, g.surfaces, (float)fmax(1e-5 * diameter, 1e-7), nodes);
     if (!(s = gpu_upload_buffer(ctx, &gs->surfaces, 0, g.surfaces,
                                 at_least_one(gs->surface_count) * sizeof(*g.surfaces), err)) &&
         !(s = gpu_upload_buffer(ctx, &gs->elements, 0, g.elements,
@@ -207,10 +226,13 @@ static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, doub
         !(s = gpu_upload_buffer(ctx, &gs->vertices, 0, g.vertices,
                                 at_least_one(gs->vertex_count) * sizeof(*g.vertices), err)) &&
         !(s = gpu_upload_buffer(ctx, &gs->clusters, 0, clusters,
-                                at_least_one(gs->cluster_count) * sizeof(*clusters), err))) {
+                                at_least_one(gs->cluster_count) * sizeof(*clusters), err)) &&
+        !(s = gpu_upload_buffer(ctx, &gs->bvh_nodes, 0, nodes,
+                                at_least_one(gs->bvh.node_count) * sizeof(*nodes), err))) {
         gs->time = time;
         gs->diameter = diameter;
     }
+    free(nodes);
     free(clusters);
     geometry_free(&g);
     return s;
@@ -330,6 +352,7 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                     nm * sizeof(struct gpu_material) + 2 * ne * sizeof(vec4) +
                     nv * sizeof(struct gpu_hemicube_vertex) + ni * sizeof(uint32_t) +
                     ni / 3 * sizeof(struct gpu_hemicube_triangle) +
+                    2 * ns * sizeof(struct gpu_bvh_node) + ns * sizeof(uint32_t) +
                     (uint64_t)at_least_one(scene->atlas_width) *
                         at_least_one(scene->atlas_height) * 16;
     if ((s = gpu_memory_check_budget(ctx, need, GPU_MEM_DEVICE, "scene data", err)) ||
@@ -353,6 +376,11 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
                                GPU_MEM_DEVICE, GPU_MEM_GEOMETRY, &out->triangles, err)) ||
         (s = gpu_buffer_create(ctx, at_least_one(out->cluster_count) * sizeof(struct gpu_cluster),
                                storage, GPU_MEM_DEVICE, GPU_MEM_GEOMETRY, &out->clusters, err)) ||
+        /* quad_bvh: at most 2 n - 1 nodes over n surfaces */
+        (s = gpu_buffer_create(ctx, 2 * ns * sizeof(struct gpu_bvh_node), storage,
+                               GPU_MEM_DEVICE, GPU_MEM_GEOMETRY, &out->bvh_nodes, err)) ||
+        (s = gpu_buffer_create(ctx, ns * sizeof(uint32_t), storage, GPU_MEM_DEVICE,
+                               GPU_MEM_GEOMETRY, &out->bvh_items, err)) ||
         (s = gpu_image_create(ctx, &ad, &out->atlas, err)) ||
         (s = upload_triangles(ctx, out, err)) || (s = upload_geometry(ctx, out, time, err)) ||
         (s = upload_materials(ctx, out, err)) ||
@@ -390,6 +418,9 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
     gpu_buffer_destroy(ctx, &gs->indices);
     gpu_buffer_destroy(ctx, &gs->triangles);
     gpu_buffer_destroy(ctx, &gs->clusters);
+    gpu_buffer_destroy(ctx, &gs->bvh_nodes);
+    gpu_buffer_destroy(ctx, &gs->bvh_items);
+    quad_bvh_free(&gs->bvh);
     hemicube_clusters_free(&gs->layout);
     gpu_buffer_destroy(ctx, &gs->Bu);
     gpu_buffer_destroy(ctx, &gs->B);

@@ -1,7 +1,7 @@
 /*
  * The scene on the GPU, as every radiosity solver's passes see it: the
  * buffers of spirv/radiosity.h (surfaces, elements, materials at the current
- * pose), total and unshot radiosity B and Bu per element (fp32, DESIGN.md
+ * pose, a hierarchy over the surfaces for segment tests), total and unshot radiosity B and Bu per element (fp32, DESIGN.md
  * "Data model"), the indexed triangles hemicubes draw (whole surfaces, not
  * elements: vertex work is the cost on lavapipe; spirv/hemicube_shared.h),
  * and the radiosity atlas image the radiosity hemicubes and the display
@@ -20,6 +20,7 @@
 #include "gpu/image.h"
 #include "scene/scene.h"
 #include "shared.h"
+#include "scene/quad_bvh.h"
 #include "solvers/hemicube_clusters.h"
 #include "xrad.h"
 
@@ -51,6 +52,11 @@ typedef struct gpu_scene {
                                   (hemicube_clusters.h) */
     uint32_t cluster_count, static_cluster_count;
     gpu_buffer clusters;       /* struct gpu_cluster[cluster_count] at `time` */
+    quad_bvh bvh;              /* the segment tests' tree (surface_bvh.h), built at create */
+    gpu_buffer bvh_nodes;      /* struct gpu_bvh_node[bvh.node_count] (at least 1), boxes at
+                                  `time` */
+    gpu_buffer bvh_items;      /* uint[surface_count]: bvh.items */
+    uint32_t bvh_depth;        /* the tree's levels */
     gpu_image atlas;           /* RGBA32F, atlas_width x atlas_height: B by element texel,
                                   written by the atlas scatter pass (passes/atlas_scatter.h);
                                   always in VK_IMAGE_LAYOUT_GENERAL (zero after create) */

@@ -171,7 +171,7 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
                      &(reconstruct_bindings){&gs->surfaces, &gs->elements, &gs->materials,
                                              &gs->B, &gs->Bu, &p->shooters, &p->status,
                                              hemicube_ids_view(p->hemicube), &p->ff, &p->norm,
-                                             &p->shot});
+                                             &p->shot, &gs->bvh_nodes, &gs->bvh_items});
     p->select_params = (select_params){
         .element_count = gs->element_count,
         .max_patches = s->desc.max_patches,

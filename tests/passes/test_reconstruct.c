@@ -34,6 +34,7 @@
 #include "radiosity.h"
 #include "scene/scene.h"
 #include "select_shared.h"
+#include "solvers/surface_bvh.h"
 
 #define RES 16u
 #define SHOOTER 0u
@@ -62,6 +63,7 @@ typedef struct rig {
     xrad_scene *scene;
     gpu_buffer surfaces, elements, materials, B, Bu, shooters, status;
     gpu_buffer snapshot; /* the shot surface's Bu by element (select's `shot`) */
+    gpu_buffer bvh_nodes, bvh_items; /* over the surfaces, as gpu_scene makes it */
     gpu_image ids;
     reconstruct_pass *pass;
     uint32_t count; /* shooters */
@@ -198,11 +200,26 @@ static int rig_create(xrad_context *ctx, uint32_t max_shooters, rig *r)
             ge[e].surface = s;
         }
     }
+    quad_bvh bvh = {0};
+    uint32_t depth = 0;
+    size_t nodes = 2 * (size_t)(sc->surface_count ? sc->surface_count : 1);
+    if ((st = surface_bvh_build(gs, sc->surface_count, &bvh, &depth, &err)) ||
+        (st = host_buffer(ctx, nodes * sizeof(struct gpu_bvh_node), &r->bvh_nodes, &err)) ||
+        (st = host_buffer(ctx, (sc->surface_count + 1) * sizeof(uint32_t), &r->bvh_items,
+                          &err))) {
+        CHECK(0, "surface hierarchy: %s", err.message);
+        quad_bvh_free(&bvh);
+        return 0;
+    }
+    surface_bvh_refit(&bvh, gs, 1e-5f, r->bvh_nodes.alloc.mapped);
+    memcpy(r->bvh_items.alloc.mapped, bvh.items, sc->surface_count * sizeof(uint32_t));
+    quad_bvh_free(&bvh);
     reconstruct_bind(ctx, r->pass,
                      &(reconstruct_bindings){&r->surfaces, &r->elements, &r->materials, &r->B,
                                              &r->Bu, &r->shooters, &r->status, r->ids.view,
                                              /* unused without conservation */
-                                             &r->B, &r->B, &r->snapshot});
+                                             &r->B, &r->B, &r->snapshot, &r->bvh_nodes,
+                                             &r->bvh_items});
     /* Every element of the shooter shoots `shot`, as every patch does. */
     vec4 *snap = r->snapshot.alloc.mapped;
     for (uint32_t k = 0; k < sc->element_count; k++)
@@ -216,6 +233,8 @@ static void rig_destroy(xrad_context *ctx, rig *r)
     gpu_image_destroy(ctx, &r->ids);
     gpu_buffer_destroy(ctx, &r->status);
     gpu_buffer_destroy(ctx, &r->snapshot);
+    gpu_buffer_destroy(ctx, &r->bvh_nodes);
+    gpu_buffer_destroy(ctx, &r->bvh_items);
     gpu_buffer_destroy(ctx, &r->shooters);
     gpu_buffer_destroy(ctx, &r->Bu);
     gpu_buffer_destroy(ctx, &r->B);
