@@ -47,7 +47,10 @@ void surface_bvh_refit(const quad_bvh *bvh, const struct gpu_surface *surfaces, 
                        struct gpu_bvh_node *out)
 {
     if (!bvh->node_count) {
-        out[0] = (struct gpu_bvh_node){.lo = {1, 1, 1, 0}, .hi = {-1, -1, -1, 0}};
+        /* A box out at 3e38 m: no segment reaches it (an inverted box
+         * would not do: the slab test's min and max turn it back). */
+        out[0] = (struct gpu_bvh_node){.lo = {3e38f, 3e38f, 3e38f, 0},
+                                       .hi = {3e38f, 3e38f, 3e38f, 0}};
         return;
     }
     /* Children have larger numbers than their parent: backwards, every
