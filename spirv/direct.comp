@@ -60,9 +60,9 @@ float block(gpu_surface sf, float s0, float s1, float t0, float t1, vec3 x, vec3
 
 void main()
 {
-    uint e = gl_GlobalInvocationID.x;
-    if (e >= pc.count)
+    if (gl_GlobalInvocationID.x >= pc.count)
         return;
+    uint e = pc.first + gl_GlobalInvocationID.x;
     gpu_shooter f = frames[e];
     vec3 x = f.pos_area.xyz, ne = f.normal.xyz;
     vec3 sum = vec3(0.0);

@@ -24,10 +24,12 @@
 #define DIRECT_SPLIT 4u
 
 struct direct_push {
-    uint count;       /* frames */
+    uint first;       /* this dispatch's frames: [first, first + count) */
+    uint count;
     uint light_first; /* this dispatch's lights: lights[light_first, + light_count) */
     uint light_count;
     uint accumulate;  /* 1: add to out[] (a later chunk of the lights), 0: write it */
+    uint pad0, pad1, pad2;
 };
 
 #endif

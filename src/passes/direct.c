@@ -121,8 +121,8 @@ void direct_record(direct_pass *p, VkCommandBuffer cmd, const direct_draw *d)
     do {
         uint32_t n = p->light_count - first < p->lights_per_dispatch ? p->light_count - first
                                                                       : p->lights_per_dispatch;
-        struct direct_push push = {.count = d->count, .light_first = first, .light_count = n,
-                                   .accumulate = first ? 1u : 0u};
+        struct direct_push push = {.first = d->first, .count = d->count, .light_first = first,
+                                   .light_count = n, .accumulate = first ? 1u : 0u};
         if (first) /* this chunk adds to what the last one wrote */
             gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                                VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,

@@ -29,10 +29,11 @@ void direct_destroy(struct xrad_context *ctx, direct_pass **pass);
 typedef struct direct_draw {
     const gpu_buffer *surfaces;  /* struct gpu_surface[]: the scene at the receivers' pose */
     const gpu_buffer *materials; /* struct gpu_material[] */
-    const gpu_buffer *frames;    /* struct gpu_shooter[count]: pos_area.xyz the receiver
+    const gpu_buffer *frames;    /* struct gpu_shooter[]: pos_area.xyz the receiver
                                     point, normal, surface */
-    uint32_t count;
-    const gpu_buffer *out;       /* vec4[count], STORAGE usage: rgb the direct light */
+    uint32_t first, count;       /* the receivers frames[first, first + count) */
+    const gpu_buffer *out;       /* vec4[], STORAGE usage: rgb the direct light, at the
+                                    frames' numbers */
     const gpu_buffer *bvh_nodes; /* struct gpu_bvh_node[]: over `surfaces` (radiosity.h) */
     const gpu_buffer *bvh_items; /* uint[] */
     uint32_t bvh_depth;          /* its levels: how many lights a dispatch takes */

@@ -67,6 +67,10 @@
 /* Hemicubes per command buffer: a few seconds on lavapipe, well inside the
  * context's wait limit; a fraction of a millisecond each on a GPU. */
 #define HEMICUBES_PER_SUBMISSION 2048u
+/* Receivers of the direct pass per command buffer: wuson-room's 12,076 in
+ * one ran past the 60 s wait on lavapipe (the lamp's blocks against a
+ * hierarchy of 3,738 surfaces, each receiver a few milliseconds there). */
+#define DIRECT_PER_SUBMISSION 1024u
 /* The largest bounce-to-bounce ratio the stop believes: above it the
  * series' tail estimate r / (1 - r) would blow up on noise. */
 #define MAX_BOUNCE_RATIO 0.99
@@ -143,40 +147,50 @@ static vec3 bilinear(const vec3 c[4], double u, double v)
 }
 
 /* g->D: the direct light at each frame, from the direct pass through the
- * sums buffer (free between bounces). */
+ * sums buffer (free between bounces), DIRECT_PER_SUBMISSION receivers a
+ * submission. */
 static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
 {
     uint32_t n = s->gs.element_count;
-    if (!n)
-        return XRAD_OK;
-    gpu_cmd c;
-    xrad_status st;
-    if ((st = gpu_cmd_begin(s->ctx, &c, err)))
-        return st;
-    gpu_timer_start(s->timer, c.cmd);
-    /* The frames' upload and any earlier use of the sums come first. */
-    gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-    gpu_timer_begin(s->timer, c.cmd, "direct");
-    direct_record(g->direct, c.cmd,
-                  &(direct_draw){.surfaces = &s->gs.surfaces,
-                                 .materials = &s->gs.materials,
-                                 .frames = &g->frames,
-                                 .count = n,
-                                 .out = &g->sums,
-                                 .bvh_nodes = &s->gs.bvh_nodes,
-                                 .bvh_items = &s->gs.bvh_items,
-                                 .bvh_depth = s->gs.bvh_depth});
-    gpu_timer_end(s->timer, c.cmd);
-    VkBufferCopy region = {0, 0, (VkDeviceSize)n * sizeof(vec4)};
-    gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_READ_BIT);
-    vkCmdCopyBuffer(c.cmd, g->sums.buffer, g->readback.buffer, 1, &region);
-    gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
-                       VK_PIPELINE_STAGE_HOST_BIT, VK_ACCESS_HOST_READ_BIT);
-    if ((st = solver_submit_wait(s, &c, err)))
+    xrad_status st = XRAD_OK;
+    for (uint32_t first = 0; first < n && !st; first += DIRECT_PER_SUBMISSION) {
+        uint32_t count = n - first < DIRECT_PER_SUBMISSION ? n - first : DIRECT_PER_SUBMISSION;
+        bool last = first + count == n;
+        gpu_cmd c;
+        if ((st = gpu_cmd_begin(s->ctx, &c, err)))
+            return st;
+        gpu_timer_start(s->timer, c.cmd);
+        /* The frames' upload and any earlier use of the sums come first. */
+        gpu_memory_barrier(c.cmd,
+                           VK_PIPELINE_STAGE_TRANSFER_BIT | VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                           VK_ACCESS_TRANSFER_WRITE_BIT | VK_ACCESS_SHADER_WRITE_BIT,
+                           VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                           VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+        gpu_timer_begin(s->timer, c.cmd, "direct");
+        direct_record(g->direct, c.cmd,
+                      &(direct_draw){.surfaces = &s->gs.surfaces,
+                                     .materials = &s->gs.materials,
+                                     .frames = &g->frames,
+                                     .first = first,
+                                     .count = count,
+                                     .out = &g->sums,
+                                     .bvh_nodes = &s->gs.bvh_nodes,
+                                     .bvh_items = &s->gs.bvh_items,
+                                     .bvh_depth = s->gs.bvh_depth});
+        gpu_timer_end(s->timer, c.cmd);
+        if (last) {
+            VkBufferCopy region = {0, 0, (VkDeviceSize)n * sizeof(vec4)};
+            gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
+                               VK_ACCESS_SHADER_WRITE_BIT, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                               VK_ACCESS_TRANSFER_READ_BIT);
+            vkCmdCopyBuffer(c.cmd, g->sums.buffer, g->readback.buffer, 1, &region);
+            gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                               VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                               VK_ACCESS_HOST_READ_BIT);
+        }
+        st = solver_submit_wait(s, &c, err);
+    }
+    if (st || !n)
         return st;
     const vec4 *d = g->readback.alloc.mapped;
     for (uint32_t e = 0; e < n; e++) {
