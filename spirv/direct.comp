@@ -114,5 +114,6 @@ void main()
         }
         sum += ff * materials[sf.material].emission.rgb;
     }
-    direct[e] = vec4(sum, 0.0) + (pc.accumulate != 0u ? direct[e] : vec4(0.0));
+    float alarm = shooting_walk_steps >= DIRECT_STEP_ALARM ? 1.0 : 0.0;
+    direct[e] = vec4(sum, alarm) + (pc.accumulate != 0u ? direct[e] : vec4(0.0));
 }

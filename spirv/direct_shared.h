@@ -20,6 +20,10 @@
 /* Most blocks along a light's side: a light is split into up to 8 x 8
  * blocks, each with its exact form factor and its own visibility. */
 #define DIRECT_MAX_BLOCKS 8u
+/* Walk steps of one invocation past which it may have met lavapipe's
+ * loop limit (65,535 iterations of all its loops; the walks are most of
+ * them): out[].w counts the light chunks that came this far. */
+#define DIRECT_STEP_ALARM 49152u
 /* Parts per side of a block in a penumbra (direct.comp). */
 #define DIRECT_SPLIT 4u
 

@@ -322,6 +322,10 @@ bool shooting_box_crossed(vec3 lo, vec3 hi, vec3 c, vec3 inv)
     return enter <= leave;
 }
 
+// Steps the hierarchy walks of this invocation have taken: direct.comp
+// reports an invocation that came near lavapipe's loop limit.
+uint shooting_walk_steps = 0u;
+
 // Whether the segment from c to x crosses a surface (quads_only: a surface
 // that is not a mesh face) of the hierarchy bvh_nodes / bvh_items, which
 // the includer declares with SHOOTING_BVH: a walk down the boxes the
@@ -337,6 +341,7 @@ bool shooting_bvh_hidden(vec3 c, vec3 x, bool quads_only)
     stack[0] = 0u;
     while (top > 0u) {
         gpu_bvh_node n = bvh_nodes[stack[--top]];
+        shooting_walk_steps++;
         if (!shooting_box_crossed(n.lo.xyz, n.hi.xyz, c, inv))
             continue;
         if (n.count == 0u) {
@@ -348,6 +353,7 @@ bool shooting_bvh_hidden(vec3 c, vec3 x, bool quads_only)
         }
         for (uint k = n.first; k < n.first + n.count; k++) {
             uint m = bvh_items[k];
+            shooting_walk_steps++;
             if (quads_only && surfaces[m].mesh != 0u)
                 continue;
             if (shooting_blocks(SHOOTING_OCCLUDER(m, false), c, x))

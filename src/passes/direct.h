@@ -33,7 +33,8 @@ typedef struct direct_draw {
                                     point, normal, surface */
     uint32_t first, count;       /* the receivers frames[first, first + count) */
     const gpu_buffer *out;       /* vec4[], STORAGE usage: rgb the direct light, at the
-                                    frames' numbers */
+                                    frames' numbers; w > 0 where the invocation came near
+                                    lavapipe's loop limit (DIRECT_STEP_ALARM) */
     const gpu_buffer *bvh_nodes; /* struct gpu_bvh_node[]: over `surfaces` (radiosity.h) */
     const gpu_buffer *bvh_items; /* uint[] */
     uint32_t bvh_depth;          /* its levels: how many lights a dispatch takes */

@@ -46,6 +46,7 @@
  */
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -193,11 +194,22 @@ static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
     if (st || !n)
         return st;
     const vec4 *d = g->readback.alloc.mapped;
+    uint32_t alarms = 0;
     for (uint32_t e = 0; e < n; e++) {
         g->D[3 * e + 0] = d[e].x;
         g->D[3 * e + 1] = d[e].y;
         g->D[3 * e + 2] = d[e].z;
+        alarms += d[e].w > 0;
     }
+    /* A CPU driver (lavapipe) ends every loop of an invocation past 65,535
+     * iterations without a word; say where that may have happened rather
+     * than hand back a solution darker than it should be. */
+    if (alarms && s->ctx->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU)
+        fprintf(stderr,
+                "xrad: gather: the direct light of %u of %u receivers came near the CPU "
+                "driver's shader loop limit (65,535 iterations) and may be too dark there "
+                "(README \"Accuracy\")\n",
+                alarms, n);
     return XRAD_OK;
 }
 
