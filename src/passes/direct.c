@@ -19,7 +19,6 @@
 struct direct_pass {
     struct xrad_context *ctx;
     uint32_t light_count;
-    uint32_t bvh_depth, lights_per_dispatch; /* for the last recording's hierarchy */
     gpu_buffer lights; /* uint[light_count] (one entry when there are none) */
     VkDescriptorSetLayout set_layout;
     VkPipelineLayout layout;
@@ -110,17 +109,14 @@ void direct_record(direct_pass *p, VkCommandBuffer cmd, const direct_draw *d)
         vkUpdateDescriptorSets(p->ctx->device, DIRECT_BINDINGS, w, 0, NULL);
         memcpy(p->bound, want, sizeof(want));
     }
-    if (d->bvh_depth != p->bvh_depth || !p->lights_per_dispatch) {
-        p->bvh_depth = d->bvh_depth;
-        p->lights_per_dispatch = direct_lights_per_dispatch(d->bvh_depth);
-    }
+    uint32_t per_dispatch = direct_lights_per_dispatch(d->bvh_depth);
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,
                             NULL);
     uint32_t first = 0;
     do {
-        uint32_t n = p->light_count - first < p->lights_per_dispatch ? p->light_count - first
-                                                                      : p->lights_per_dispatch;
+        uint32_t n =
+            p->light_count - first < per_dispatch ? p->light_count - first : per_dispatch;
         struct direct_push push = {.first = d->first, .count = d->count, .light_first = first,
                                    .light_count = n, .accumulate = first ? 1u : 0u};
         if (first) /* this chunk adds to what the last one wrote */
