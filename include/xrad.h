@@ -414,6 +414,10 @@ typedef struct xrad_solver_desc {
                                 the bounces still to come would add (gather: the last bounce's
                                 power x r / (1 - r), r its ratio to the one before), relative
                                 to the emitted power, is below this; default 1e-4 */
+    double unshot;           /* progressive, and the dynamic methods' solves from B = E: stop
+                                also only once all the unshot power, over every surface, is
+                                below this share of the emitted power (1: no such test);
+                                default 0.005 */
     uint32_t batch;          /* progressive: shots recorded per submission (one host wait per
                                 batch); default 32 */
     uint32_t max_patches;    /* progressive: most shooting patches along a side of a surface
@@ -575,6 +579,9 @@ typedef struct xrad_solver_stats {
     uint32_t submissions;  /* command buffers submitted */
     uint32_t host_waits;   /* times the host waited for the GPU */
     double residual;       /* final unshot power or bounce change, relative */
+    double unshot;         /* progressive: all unshot power at the last selection, relative
+                              to the emitted */
+    uint32_t surfaces_shot; /* progressive: surfaces shot (a shot's group counts each) */
     double redistribute_ms;  /* advance: host wall time of the redistribution alone (incremental,
                                 cross); the rest of wall_ms is progressive iterations */
     const char *hemicube_path; /* "multiview" or "layered" */

@@ -89,7 +89,8 @@ struct gpu_shooter {
     uint j1, hemicube; /* hemicube: layer block of its ID hemicube */
     uint group;        /* 1: a group of a dynamic mesh's faces (cross; solvers/
                           dynamic_patches.h), not a block of surface's elements */
-    uint pad1;
+    uint shot_first;   /* where its surface's unshot radiosity starts in the select
+                          pass's `shot` (progressive; 0 elsewhere) */
 };
 
 #endif

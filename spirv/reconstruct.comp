@@ -90,7 +90,8 @@ uint buried_mask()
 // and the wall's edge rows came out 1.2-1.3 times the CPU reference's in a
 // plain room. So the patch counts as up to SHOOTING_NEAR_BLOCKS per side
 // blocks of its elements, each with the exact form factor of its cells and the
-// mean unshot radiosity of its open elements as select left them (`shot`);
+// mean unshot radiosity of its open elements as select left them (`shot`,
+// from the shooter's shot_first: a shot's group has one run per surface);
 // returned as the factor that gives that luminance with the patch's mean
 // radiosity, so that conservation and the transfer treat it as any other
 // form factor (the colour is the patch's). Visibility is each block's
@@ -112,7 +113,7 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
                     gpu_element el = elements[sf.first_element + k];
                     if ((el.flags & buried_mask()) != 0u && sf.patches_s == 0u)
                         continue;
-                    lum += el.pos_area.w * dot(shot[k].rgb, LUMA);
+                    lum += el.pos_area.w * dot(shot[sh.shot_first + k].rgb, LUMA);
                     area += el.pos_area.w;
                 }
             }
@@ -294,6 +295,7 @@ void main()
                 ff[k * pc.element_count + e] = 0.0;
         return;
     }
+    shooting_exact_mesh = pc.redistributed == 0u;
     vec3 gathered = vec3(0.0);
     for (uint k = 0u; k < count; k++) {
         if (pc.mode == RECONSTRUCT_MODE_FF) {

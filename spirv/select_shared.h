@@ -15,12 +15,16 @@
 #define SELECT_BINDING_POWER 3
 #define SELECT_BINDING_SHOOTERS 4
 #define SELECT_BINDING_STATUS 5
-#define SELECT_BINDING_SHOT 6 /* vec4[nu * nv of the largest surface]: the shot surface's Bu */
+#define SELECT_BINDING_SHOT 6 /* vec4[select_shot_capacity()]: the shot surfaces' Bu */
 #define SELECT_BINDING_COUNT 7
 
 #define SELECT_POWER_GROUP 64u /* select_power.comp: one invocation per surface */
 #define SELECT_GROUP 256u      /* select.comp: one workgroup does the whole choice */
 #define SELECT_NONE 0xffffffffu
+/* A shot's group (select.comp): the surfaces that join the chosen one hold
+ * at least this share of its power; at most SELECT_GROUP_MAX join. */
+#define SELECT_GROUP_SHARE 0.125
+#define SELECT_GROUP_MAX 64u
 
 /* Written by every shot; read by the hemicube pass (draw), the reconstruct
  * pass (dispatch, shooter_count) and, once per batch, by the host.
@@ -39,10 +43,11 @@ struct select_status {
     uint converged; /* sticky: 1 once the largest power fell to threshold x max_power */
     float power;     /* luminance of sum_e Bu_e A_e of the surface examined this shot, W */
     float max_power; /* largest such power seen in this solve (the first shot's) */
-    float pad0, pad1;
+    float unshot;     /* the sum of that power over every surface, before this shot, W */
+    float max_unshot; /* largest such sum seen in this solve (the first shot's: all emitted) */
     uint selections; /* shots that shot something, this solve */
     uint patches;    /* shooting patches (= ID hemicubes) shot, this solve */
-    uint pad2;
+    uint surfaces;   /* surfaces shot, this solve: a shot's group counts each */
 };
 
 struct select_push {
@@ -54,10 +59,15 @@ struct select_push {
     uint instances_per_hemicube;
     uint seed;          /* hemicube rotations (thesis 4.2) */
     uint reconstruct_group; /* workgroup size of the reconstruct dispatch */
-    float threshold;    /* converged when power <= threshold x max_power */
+    float threshold;    /* converged when power <= threshold x max_power ... */
     uint linear_rule;   /* 1: patches follow the power share, not its square root */
     uint buried_mask;   /* GPU_ELEMENT_* flags of elements a patch does not shoot from */
-    float pad2;
+    float unshot_share; /* ... and unshot <= unshot_share x max_unshot (0: no such test) */
+    uint group_shooters; /* most shooters of a shot with its group (0: no group) */
+    uint group_elements; /* most elements of a surface that joins a group; its `shot`
+                            entries start at the chosen surface's count + j x this */
+    uint shot_first;    /* entries of `shot` the chosen surface may take */
+    uint pad0;
 };
 
 #endif

@@ -303,6 +303,9 @@ void method_print_passes(const method_result *r)
     printf("hemicubes %u, shots %u, iterations %u, submissions %u, host waits %u, "
            "residual %.3g\n",
            s->hemicubes, s->shots, s->iterations, s->submissions, s->host_waits, s->residual);
+    if (s->surfaces_shot)
+        printf("surfaces shot %u, unshot at the stop %.3g of the emitted power\n",
+               s->surfaces_shot, s->unshot);
     if (s->redistribute_ms > 0)
         printf("redistribution %.1f ms of %.1f ms (host wall time)\n", s->redistribute_ms,
                s->wall_ms);

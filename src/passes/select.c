@@ -115,6 +115,10 @@ void select_record(select_pass *p, VkCommandBuffer cmd, const select_params *par
         .threshold = (float)params->threshold,
         .linear_rule = params->linear_rule ? 1u : 0u,
         .buried_mask = params->buried_mask,
+        .unshot_share = (float)params->unshot_share,
+        .group_shooters = params->group_shooters,
+        .group_elements = params->group_elements,
+        .shot_first = params->shot_first,
     };
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,
                             NULL);

@@ -38,8 +38,8 @@ typedef struct select_buffers {
     const gpu_buffer *Bu;       /* vec4[element_count], read and cleared */
     const gpu_buffer *shooters; /* struct gpu_shooter[max_shooters], written */
     const gpu_buffer *status;   /* struct select_status, read and written */
-    const gpu_buffer *shot;     /* vec4[select_shot_capacity()]: the shot surface's Bu
-                                   by element, written before it is cleared */
+    const gpu_buffer *shot;     /* vec4[shot_first + group_shooters x group_elements]: the
+                                   shot surfaces' Bu by element, written before it is cleared */
 } select_buffers;
 
 /* Elements of the scene's largest surface: the entries `shot` needs. */
@@ -54,6 +54,16 @@ typedef struct select_params {
     uint32_t reconstruct_group;      /* workgroup size of the indirect dispatch */
     uint32_t seed;                   /* hemicube rotations */
     double threshold;                /* in [0, 1) */
+    /* Also unconverged while the sum of the powers exceeds this share of
+     * the largest such sum this solve (0: no such test). */
+    double unshot_share;
+    /* Shooters of a shot with the surfaces that join the chosen one (0: it
+     * shoots alone); surfaces of at most group_elements elements join,
+     * their unshot radiosity in `shot` from shot_first on (the entries of
+     * the scene's largest surface, select_shot_capacity()). */
+    uint32_t group_shooters;
+    uint32_t group_elements;
+    uint32_t shot_first;
     /* Patches follow the power share itself (thesis 4.3.3), not its square
      * root: cross's progressive iterations after its restart
      * (spirv/select.comp says why). */

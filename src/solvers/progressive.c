@@ -35,6 +35,10 @@
 /* Hemicube image memory a solver may hold, all shooters of a shot together. */
 #define MAX_HEMICUBE_BYTES (256ull << 20)
 #define MAX_FF_BYTES (64ull << 20)
+/* A shot's group (spirv/select.comp): at most this many shooters in all,
+ * each joining surface of at most GROUP_ELEMENTS elements. */
+#define GROUP_SHOOTERS 32u
+#define GROUP_ELEMENTS 64u
 
 struct progressive {
     select_pass *select;
@@ -66,6 +70,10 @@ static uint32_t shooter_capacity(const xrad_solver *s)
             n = s->gs.fixed_patches[3 * k] * s->gs.fixed_patches[3 * k + 1];
         need = n > need ? n : need;
     }
+    /* Room for a group where there are surfaces to join one. */
+    uint32_t group = s->scene->surface_count < GROUP_SHOOTERS ? s->scene->surface_count
+                                                                : GROUP_SHOOTERS;
+    need = group > need ? group : need;
     uint32_t layers = s->ctx->props.limits.maxImageArrayLayers / HEMICUBE_FACES;
     uint64_t per = 8ull * s->desc.hemicube_res * s->desc.hemicube_res * HEMICUBE_FACES;
     uint64_t by_memory = MAX_HEMICUBE_BYTES / per;
@@ -132,7 +140,10 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
         (st = gpu_buffer_create(ctx, (VkDeviceSize)p->max_shooters * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_RADIOSITY, &p->norm, err)) ||
-        (st = gpu_buffer_create(ctx, (VkDeviceSize)select_shot_capacity(s->scene) * sizeof(vec4),
+        (st = gpu_buffer_create(ctx,
+                                (VkDeviceSize)(select_shot_capacity(s->scene) +
+                                               GROUP_SHOOTERS * GROUP_ELEMENTS) *
+                                    sizeof(vec4),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_RADIOSITY, &p->shot, err)))
         goto fail;
@@ -181,6 +192,8 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
         .reconstruct_group = reconstruct_group_size(),
         .seed = s->desc.seed,
         .threshold = s->desc.threshold,
+        .group_elements = GROUP_ELEMENTS,
+        .shot_first = select_shot_capacity(s->scene),
         /* as buried_mask() in spirv/reconstruct.comp */
         .buried_mask = (flags & PROGRESSIVE_REDISTRIBUTED) ? 0u
                        : static_only                      ? GPU_ELEMENT_BURIED
@@ -293,8 +306,16 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
      * patches (cornell-box's ceiling 1.045 of the CPU reference with the
      * linear rule). */
     p->select_params.linear_rule = p->static_only && !restart;
+    /* A solve from B = E (and plain progressive refinement) stops also on
+     * all that is unshot, and shoots in groups (select.comp says why);
+     * the iterations after a redistribution shoot the signed changes of a
+     * pose, a few surfaces, to the threshold alone. */
+    bool from_emission = restart || (!p->static_only && !p->redistributed);
+    p->select_params.unshot_share = from_emission ? s->desc.unshot : 0;
+    p->select_params.group_shooters = from_emission ? GROUP_SHOOTERS : 0;
     uint32_t limit = max_shots ? max_shots : s->desc.max_iterations;
-    uint32_t first = status->selections, first_patches = status->patches;
+    uint32_t first = status->selections, first_patches = status->patches,
+             first_surfaces = status->surfaces;
     uint32_t selected = 0;
     bool done = false;
     /* A continuation after a redistribution often needs only a few shots,
@@ -343,6 +364,8 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
     s->stats.shots += status->patches - first_patches;
     s->stats.hemicubes += status->patches - first_patches;
     s->stats.residual = status->max_power > 0 ? status->power / status->max_power : 0;
+    s->stats.unshot = status->max_unshot > 0 ? status->unshot / status->max_unshot : 0;
+    s->stats.surfaces_shot += status->surfaces - first_surfaces;
     return XRAD_OK;
 }
 

@@ -51,6 +51,11 @@ static const setting settings[] = {
       "add) relative to the emitted power is below this",
       XRAD_SETTING_REAL, 1e-4, 0, 0.5, NULL},
      SOLVER(threshold), RULE_OPEN_LOW},
+    {{"unshot",
+      "progressive (and the dynamic methods' first solve): stop also only once all unshot "
+      "power is below this share of the emitted power (1: no such test)",
+      XRAD_SETTING_REAL, 5e-3, 0, 1, NULL},
+     SOLVER(unshot), RULE_OPEN_LOW},
     {{"batch", "progressive shots per submission (one host wait each)", XRAD_SETTING_INTEGER,
       32, 1, 4096, NULL},
      SOLVER(batch), RULE_NONE},
@@ -275,11 +280,12 @@ static const struct {
     const char *name;
     double v[SETTING_COUNT];
 } presets[] = {
-    /*        res msaa id  subdiv max  thresh batch shots grid back bmsaa fmt amb cons density */
-    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 64, 0, 1, 8, 1, 1, 2, 1, 0.5}},
-    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 32, 0, 2, 16, 4, 1, 2, 1, 1}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 32, 0, 4, 32, 4, 1, 1, 1, 1}},
-    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 32, 0, 8, 64, 4, 2, 1, 1, 2}},
+    /*        res msaa id  subdiv max  thresh unshot batch shots grid back bmsaa fmt amb cons
+                                                                               cull density */
+    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 8, 1, 1, 2, 1, 0, 0.5}},
+    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 16, 4, 1, 2, 1, 0, 1}},
+    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 32, 4, 1, 1, 1, 0, 1}},
+    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 64, 4, 2, 1, 1, 0, 2}},
 };
 
 const char *xrad_quality_preset_list(void)

@@ -14,7 +14,14 @@
  *  - Bu of the chosen surface is zero afterwards and every other Bu is
  *    untouched; the indirect parameters are sized from the patch count;
  *  - below threshold x the largest power the converged flag is set, the
- *    counts are zero and nothing changes, also in the shots after.
+ *    counts are zero and nothing changes, also in the shots after;
+ *  - a shot's group: the surfaces that join the chosen one are, in surface
+ *    order, the first that hold at least SELECT_GROUP_SHARE of its power,
+ *    have at most group_elements elements and one patch by the rule, as
+ *    many as the room leaves; each shoots its own power from its own
+ *    `shot` entries and is cleared; status.unshot is the host's sum of all
+ *    powers, and while it exceeds unshot_share of the first the solve does
+ *    not converge, whatever the largest surface holds.
  */
 #include <stdint.h>
 #include <stdio.h>
@@ -40,6 +47,8 @@ typedef struct rig {
     gpu_buffer snapshot; /* select's `shot`: the shot surface's Bu by element */
     select_pass *pass;
     uint32_t max_shooters;
+    uint32_t group_shooters, group_elements; /* select_params' (0: no group) */
+    double unshot_share;
 } rig;
 
 static uint32_t lcg(uint32_t *state)
@@ -61,9 +70,12 @@ static xrad_status host_buffer(xrad_context *ctx, VkDeviceSize size, gpu_buffer 
 }
 
 /* The scene's world geometry in the layouts of spirv/radiosity.h. */
-static int rig_create(xrad_context *ctx, const char *json, uint32_t max_shooters, rig *r)
+static int rig_create_group(xrad_context *ctx, const char *json, uint32_t max_shooters,
+                            uint32_t group_shooters, uint32_t group_elements, rig *r)
 {
     memset(r, 0, sizeof(*r));
+    r->group_shooters = group_shooters;
+    r->group_elements = group_elements;
     xrad_error err = {0};
     xrad_status st = xrad_scene_parse(json, strlen(json), "select.json", &r->scene, &err);
     CHECK(st == XRAD_OK, "parse: %s", err.message);
@@ -78,7 +90,10 @@ static int rig_create(xrad_context *ctx, const char *json, uint32_t max_shooters
         (st = host_buffer(ctx, sc->element_count * sizeof(vec4), &r->Bu, &err)) ||
         (st = host_buffer(ctx, max_shooters * sizeof(struct gpu_shooter), &r->shooters, &err)) ||
         (st = host_buffer(ctx, sizeof(struct select_status), &r->status, &err)) ||
-        (st = host_buffer(ctx, select_shot_capacity(sc) * sizeof(vec4), &r->snapshot, &err)) ||
+        (st = host_buffer(ctx,
+                          (select_shot_capacity(sc) + group_shooters * group_elements) *
+                              sizeof(vec4),
+                          &r->snapshot, &err)) ||
         (st = select_create(ctx, sc->surface_count, &r->pass, &err))) {
         CHECK(0, "buffers: %s", err.message);
         return 0;
@@ -110,6 +125,11 @@ static int rig_create(xrad_context *ctx, const char *json, uint32_t max_shooters
                 &(select_buffers){&r->surfaces, &r->elements, &r->Bu, &r->shooters, &r->status,
                                   &r->snapshot});
     return 1;
+}
+
+static int rig_create(xrad_context *ctx, const char *json, uint32_t max_shooters, rig *r)
+{
+    return rig_create_group(ctx, json, max_shooters, 0, 0, r);
 }
 
 static void rig_destroy(xrad_context *ctx, rig *r)
@@ -145,6 +165,10 @@ static int shoot_masked(xrad_context *ctx, rig *r, uint32_t max_patches, double 
         .seed = 7,
         .threshold = threshold,
         .buried_mask = buried_mask,
+        .unshot_share = r->unshot_share,
+        .group_shooters = r->group_shooters,
+        .group_elements = r->group_elements,
+        .shot_first = select_shot_capacity(r->scene),
     };
     select_record(r->pass, c.cmd, &p);
     VkMemoryBarrier host = {
@@ -530,6 +554,135 @@ static void test_buried_centre(xrad_context *ctx)
     }
 }
 
+/* A shot's group. Surface 0 (4 x 4 elements) holds the largest power P;
+ * tiles 1..24 (one element each, or 3 x 3 for every fifth) hold P x
+ * share, the share cycling through 0.5, 0.2, 0.13, 0.1, 0.05, 0; tiles
+ * of 2 x 2 elements, every fifth of 3 x 3, more than group_elements = 4.
+ * With room for 12 shooters in all, the group is, in surface order, the
+ * first tiles of 2 x 2 holding at least P / 8. Then the unshot test:
+ * with the threshold above every surface's share, the solve still does
+ * not converge while the sum exceeds unshot_share of the first sum. */
+static void test_group(xrad_context *ctx)
+{
+    enum { TILES = 24, GE = 4, ROOM = 12 };
+    char *json = malloc(16 * 1024);
+    if (!json)
+        return;
+    size_t len = (size_t)snprintf(
+        json, 16 * 1024,
+        "{\"unit\":\"m\",\"materials\":[{\"name\":\"m\",\"albedo\":[0.5,0.5,0.5]}],"
+        "\"objects\":[{\"name\":\"o\",\"surfaces\":["
+        "{\"name\":\"big\",\"material\":\"m\",\"elements\":[4,4],"
+        " \"quad\":{\"origin\":[0,0,0],\"u\":[1,0,0],\"v\":[0,1,0]}}");
+    for (int k = 1; k <= TILES; k++)
+        len += (size_t)snprintf(json + len, 16 * 1024 - len,
+                                ",{\"name\":\"t%d\",\"material\":\"m\",\"elements\":[%d,%d],"
+                                "\"quad\":{\"origin\":[%d,3,0],\"u\":[0.5,0,0],\"v\":[0,0.5,0]}}",
+                                k, k % 5 ? 2 : 3, k % 5 ? 2 : 3, k);
+    snprintf(json + len, 16 * 1024 - len,
+             "]}],\"camera\":{\"position\":[0,0,5],\"look_at\":[0,0,0],\"up\":[0,1,0],"
+             "\"fov_degrees\":60}}");
+    rig r;
+    if (!rig_create_group(ctx, json, 64, ROOM, GE, &r)) {
+        rig_destroy(ctx, &r);
+        free(json);
+        return;
+    }
+    const xrad_scene *sc = r.scene;
+    static const double shares[6] = {0.5, 0.2, 0.13, 0.1, 0.05, 0};
+    const double P = 1.0;
+    set_uniform(&r, 0, (float)(P / sc->surfaces[0].area));
+    double sum = P;
+    for (uint32_t k = 1; k <= TILES; k++) {
+        double q = P * shares[k % 6];
+        set_uniform(&r, k, (float)(q / sc->surfaces[k].area));
+        sum += q;
+    }
+    size_t bytes = sc->element_count * sizeof(vec4);
+    vec4 *before = malloc(bytes);
+    if (before)
+        memcpy(before, r.Bu.alloc.mapped, bytes);
+    /* Late in a solve: the largest power seen (the emitted) is 1e5 P, so
+     * that the patch rule gives every surface here one patch (64 x
+     * sqrt(1e-5) < 1). By hand: the tiles of 2 x 2 elements (k not a
+     * multiple of 5) whose share is at least 1/8 (k mod 6 in 0..2), in
+     * order. */
+    const double M = 1e5 * P;
+    struct select_status *status = r.status.alloc.mapped;
+    status->max_power = (float)M;
+    status->max_unshot = (float)M;
+    uint32_t want[TILES], nwant = 0;
+    for (uint32_t k = 1; k <= TILES; k++)
+        if (k % 5 && k % 6 <= 2)
+            want[nwant++] = k;
+    if (before && shoot(ctx, &r, 8, 1e-7)) {
+        const struct select_status *st = r.status.alloc.mapped;
+        const struct gpu_shooter *sh = r.shooters.alloc.mapped;
+        const vec4 *bu = r.Bu.alloc.mapped, *snap = r.snapshot.alloc.mapped;
+        uint32_t own = st->kx * st->ky;
+        uint32_t joined = ROOM - own < nwant ? ROOM - own : nwant;
+        CHECK(st->surface == 0 && own == 1, "chose %u, %u x %u", st->surface, st->kx, st->ky);
+        CHECK(st->shooter_count == own + joined && st->surfaces == 1 + joined &&
+                  st->draw_instance_count == (own + joined) * INSTANCES && st->patches == own + joined,
+              "%u shooters, %u surfaces, %u instances, want %u + %u", st->shooter_count,
+              st->surfaces, st->draw_instance_count, own, joined);
+        CHECK_REL(st->unshot, sum, 1e-5);
+        CHECK_REL(st->max_unshot, M, 1e-5);
+        uint32_t first = select_shot_capacity(sc);
+        for (uint32_t j = 0; j < joined && st->shooter_count == own + joined; j++) {
+            const struct gpu_shooter *g = &sh[own + j];
+            uint32_t k = want[j];
+            const surface *sf = &sc->surfaces[k];
+            CHECK(g->surface == k && g->hemicube == own + j && g->i0 == 0 && g->j0 == 0 &&
+                      g->i1 == sf->nu - 1 && g->j1 == sf->nv - 1 &&
+                      g->shot_first == first + j * GE,
+                  "joined %u: surface %u (want %u), hemicube %u, shot_first %u", j, g->surface, k,
+                  g->hemicube, g->shot_first);
+            CHECK_REL((double)g->pos_area.w, sf->area, 1e-5);
+            CHECK_REL((double)g->radiosity.y * g->pos_area.w, P * shares[k % 6], 1e-5);
+            uint32_t n = sf->nu * sf->nv;
+            CHECK(memcmp(&snap[g->shot_first], &before[sf->first_element], n * sizeof(vec4)) == 0,
+                  "joined %u: its unshot radiosity is not in `shot`", j);
+            for (uint32_t e = sf->first_element; e < sf->first_element + n; e++)
+                CHECK(bu[e].x == 0 && bu[e].y == 0 && bu[e].z == 0,
+                      "joined %u keeps its unshot radiosity", j);
+        }
+        /* Every surface that did not shoot keeps its Bu. */
+        uint32_t changed = 0;
+        for (uint32_t e = 0; e < sc->element_count; e++) {
+            uint32_t s = sc->elements[e].surface;
+            bool shot = s == 0;
+            for (uint32_t j = 0; j < joined; j++)
+                shot = shot || s == want[j];
+            changed += !shot && memcmp(&bu[e], &before[e], sizeof(vec4)) != 0;
+        }
+        CHECK(changed == 0, "%u elements of surfaces that did not shoot changed", changed);
+
+        /* Left: every tile below 0.6 P, 6e-6 of the largest power seen
+         * (threshold 6e-6 is met); unshot_share 0 converges, 1e-6 (of M)
+         * shoots on. */
+        double left = 0;
+        for (uint32_t k = 1; k <= TILES; k++)
+            left += surface_power(&r, bu, k);
+        CHECK(left > 0.1 * sum, "too little left (%g of %g) for the unshot test", left, sum);
+        r.unshot_share = 1e-6;
+        uint32_t selections = st->selections;
+        if (shoot(ctx, &r, 8, 6e-6)) {
+            CHECK(st->converged == 0 && st->selections == selections + 1 && st->shooter_count > 0,
+                  "the largest surface below the threshold stopped a solve with %g of %g unshot",
+                  left, sum);
+            CHECK_REL(st->unshot, left, 1e-5);
+        }
+        r.unshot_share = 0;
+        if (shoot(ctx, &r, 8, 6e-6))
+            CHECK(st->converged == 1 && st->shooter_count == 0,
+                  "without the unshot test the threshold did not stop the solve");
+    }
+    free(before);
+    rig_destroy(ctx, &r);
+    free(json);
+}
+
 int main(void)
 {
     xrad_context *ctx = gpu_test_context();
@@ -538,6 +691,7 @@ int main(void)
     test_argmax(ctx);
     test_rule(ctx);
     test_buried_centre(ctx);
+    test_group(ctx);
     gpu_test_end(&ctx);
     return test_finish();
 }

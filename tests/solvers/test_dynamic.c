@@ -434,13 +434,24 @@ static void contact_test(xrad_context *ctx, xrad_method m)
     xrad_scene_destroy(&scene);
 }
 
-int main(void)
+/* One method per run (`--method cross|incremental|progressive`; meson runs
+ * the three side by side); without arguments, every method in turn. */
+int main(int argc, char **argv)
 {
+    const char *only = argc > 2 && !strcmp(argv[1], "--method") ? argv[2] : NULL;
+    if (argc > 1 && (!only || (strcmp(only, "cross") && strcmp(only, "incremental") &&
+                               strcmp(only, "progressive")))) {
+        fprintf(stderr, "usage: test_dynamic [--method cross|incremental|progressive]\n");
+        return 2;
+    }
     xrad_context *ctx = gpu_test_context();
     if (!ctx)
         return test_finish();
     const xrad_method methods[] = {XRAD_METHOD_CROSS, XRAD_METHOD_INCREMENTAL};
+    const char *names[] = {"cross", "incremental"};
     for (size_t k = 0; k < sizeof(methods) / sizeof(methods[0]); k++) {
+        if (only && strcmp(only, names[k]))
+            continue;
         xrad_method m = methods[k];
         /* 45 degrees of the box's turn: the largest change of a square box. */
         move_test(ctx, "scenes/cornell-large.json", m, 0, 2.25, false);
@@ -453,7 +464,8 @@ int main(void)
         static_scene_test(ctx, m);
         contact_test(ctx, m);
     }
-    contact_test(ctx, XRAD_METHOD_PROGRESSIVE);
+    if (!only || !strcmp(only, "progressive"))
+        contact_test(ctx, XRAD_METHOD_PROGRESSIVE);
     gpu_test_end(&ctx);
     return test_finish();
 }

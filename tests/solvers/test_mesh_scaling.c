@@ -129,7 +129,7 @@ int main(int argc, char **argv)
         xrad_scene_get_info(scene, &info);
         xrad_context_reset_memory_peak(ctx);
         xrad_solver *s = NULL;
-        xrad_solver_desc d = {.method = XRAD_METHOD_PROGRESSIVE, .threshold = 0.4};
+        xrad_solver_desc d = {.method = XRAD_METHOD_PROGRESSIVE, .threshold = 0.4, .unshot = 1};
         double t1 = now(), t2 = t1;
         if (!(st = xrad_solver_create(ctx, scene, &d, &s, &err))) {
             t2 = now();
