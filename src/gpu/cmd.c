@@ -180,7 +180,7 @@ void gpu_cmd_destroy(struct xrad_context *ctx, gpu_cmd *c)
          * a lost device may be destroyed). */
         VkResult r = vkWaitForFences(ctx->device, 1, &c->fence, VK_TRUE, ctx->wait_timeout_ns);
         if (r == VK_TIMEOUT) {
-            ctx->lost = true;
+            atomic_store(&ctx->lost, true);
             fprintf(stderr, "xrad: a GPU submission did not finish within %.0f s; its command "
                             "buffer is left to the context's destruction\n",
                     (double)ctx->wait_timeout_ns * 1e-9);

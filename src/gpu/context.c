@@ -23,7 +23,7 @@ uint32_t gpu_validation_messages_total(void)
 
 xrad_status gpu_context_check_alive(struct xrad_context *ctx, const char *what, xrad_error *err)
 {
-    if (!ctx->lost)
+    if (!atomic_load(&ctx->lost))
         return XRAD_OK;
     return xrad_fail(err, XRAD_ERROR_SYSTEM,
                      "%s: the GPU device was lost earlier (VK_ERROR_DEVICE_LOST or a wait "
@@ -516,7 +516,7 @@ void xrad_context_destroy(xrad_context **pctx)
     if (ctx->device) {
         /* After a loss or a hang the device may never go idle; its objects
          * may still be destroyed (Vulkan spec, "Lost Device"). */
-        if (!ctx->lost)
+        if (!atomic_load(&ctx->lost))
             vkDeviceWaitIdle(ctx->device);
         if (ctx->mem) {
             gpu_memory_stats st;

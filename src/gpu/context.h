@@ -85,8 +85,9 @@ struct xrad_context {
     struct gpu_memory *mem;
     gpu_fault fault;
     /* Set by VK_ERROR_DEVICE_LOST (real or injected) and by wait timeouts:
-     * later submissions refuse, and destroy does not wait on the device. */
-    bool lost;
+     * later submissions refuse, and destroy does not wait on the device.
+     * Atomic: the scheduler's worker sets it, the display thread reads it. */
+    atomic_bool lost;
 };
 
 /* Messages (warnings and errors) seen by every context of this process,

@@ -145,15 +145,15 @@ void gpu_fault_set(struct xrad_context *ctx, const char *function, uint32_t nth,
 
 bool gpu_fault_take(struct xrad_context *ctx, const char *call_text)
 {
-    if (!ctx || !ctx->fault.function[0] || ctx->fault.fired)
+    if (!ctx || !ctx->fault.function[0] || atomic_load(&ctx->fault.fired))
         return false;
     char name[64];
     if (strcmp(gpu_call_name(call_text, name, sizeof(name)), ctx->fault.function))
         return false;
-    if (++ctx->fault.calls != ctx->fault.nth)
+    if (atomic_fetch_add(&ctx->fault.calls, 1) + 1 != ctx->fault.nth)
         return false;
-    ctx->fault.fired = true;
-    return true;
+    /* One call fires, whichever thread makes it. */
+    return !atomic_exchange(&ctx->fault.fired, true);
 }
 
 VkResult gpu_fault_result(const struct xrad_context *ctx)
@@ -168,7 +168,7 @@ xrad_status gpu_vk_report(struct xrad_context *ctx, xrad_error *err, const char 
         return XRAD_OK;
     /* xrad waits only with finite timeouts, so a timeout means a hang. */
     if (ctx && (result == VK_ERROR_DEVICE_LOST || result == VK_TIMEOUT))
-        ctx->lost = true;
+        atomic_store(&ctx->lost, true);
     char name[64];
     return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: %s%s (%s:%d)%s",
                      gpu_call_name(call_text, name, sizeof(name)), gpu_result_name(result),

@@ -18,6 +18,7 @@
 #ifndef XRAD_GPU_VK_CHECK_H
 #define XRAD_GPU_VK_CHECK_H
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <vulkan/vulkan.h>
@@ -31,8 +32,9 @@ typedef struct gpu_fault {
     char function[64];
     uint32_t nth;    /* 1-based */
     VkResult result; /* what the call reports instead */
-    uint32_t calls;  /* checked calls of `function` seen so far */
-    bool fired;
+    /* Calls come from the scheduler's worker and the display thread. */
+    atomic_uint calls; /* checked calls of `function` seen so far */
+    atomic_bool fired;
 } gpu_fault;
 
 /* "VK_ERROR_DEVICE_LOST" for VK_ERROR_DEVICE_LOST; "VkResult(-1234)" style

@@ -141,10 +141,10 @@ void viewer_destroy(viewer **pv)
     viewer *v = *pv;
     struct xrad_context *ctx = v->ctx;
     for (uint32_t i = 0; i < SLOTS; i++)
-        if (v->slots[i].pending && !ctx->lost)
+        if (v->slots[i].pending && !atomic_load(&ctx->lost))
             vkWaitForFences(ctx->device, 1, &v->slots[i].fence, VK_TRUE, ctx->wait_timeout_ns);
     /* Presents hold the swapchains' semaphores: teardown waits for the queue. */
-    if (!ctx->lost) {
+    if (!atomic_load(&ctx->lost)) {
         pthread_mutex_lock(&ctx->queue_lock);
         vkQueueWaitIdle(ctx->queue);
         pthread_mutex_unlock(&ctx->queue_lock);

@@ -378,7 +378,7 @@ void scheduler_destroy(scheduler **ps)
         pthread_join(s->thread, NULL);
     }
     /* Teardown: the display's last frames and the last publication. */
-    if (!ctx->lost) {
+    if (!atomic_load(&ctx->lost)) {
         pthread_mutex_lock(&ctx->queue_lock);
         vkQueueWaitIdle(ctx->queue);
         pthread_mutex_unlock(&ctx->queue_lock);
