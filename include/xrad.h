@@ -472,6 +472,13 @@ typedef struct xrad_solver_desc {
      * dispatch costs more than it saves), off for gather (its batches of
      * neighbouring elements see nearly all of a room). */
     uint32_t cull;
+    /* Progress of the long parts, on the calling thread: gather's direct
+     * light (at create) and its bounces, progressive's shots (per batch;
+     * fraction: how far the unshot power has come down, on a log scale,
+     * towards the stop), the dynamic methods' first solve; not the frames
+     * of xrad_solver_advance. NULL: none. */
+    xrad_progress_fn progress;
+    void *progress_user;
 } xrad_solver_desc;
 
 enum {
@@ -533,6 +540,7 @@ typedef struct xrad_setting_info {
     xrad_setting_kind kind;
     double def, min, max; /* default and range (CHOICE: positions) */
     const char *choices;  /* CHOICE: "neighbours|exact"; else NULL */
+    int min_open;         /* 1: min itself is not allowed, the range is (min, max] */
 } xrad_setting_info;
 
 /* The settings, in a fixed order; NULL past the last. */
@@ -585,6 +593,11 @@ typedef struct xrad_solver_stats {
     double redistribute_ms;  /* advance: host wall time of the redistribution alone (incremental,
                                 cross); the rest of wall_ms is progressive iterations */
     const char *hemicube_path; /* "multiview" or "layered" */
+    /* cross: patches on the dynamic objects (their cross_density, or
+     * max_patches blocks a side where none is given; a dynamic mesh's faces
+     * in groups) and on the lights, as created; a frame costs hemicubes
+     * of each. */
+    uint32_t cross_patches, cross_light_patches;
     uint32_t pass_count;
     xrad_pass_time passes[XRAD_MAX_PASSES];
 } xrad_solver_stats;

@@ -163,3 +163,21 @@ bool cli_make_parent_dirs(const char *path)
     }
     return true;
 }
+
+xrad_status cli_check_writable(const char *path, xrad_error *err)
+{
+    if (!cli_make_parent_dirs(path))
+        return cli_fail(err, XRAD_ERROR_INPUT, "%s: cannot create its directory: %s", path,
+                        strerror(errno));
+    struct stat st;
+    bool existed = stat(path, &st) == 0;
+    if (existed && S_ISDIR(st.st_mode))
+        return cli_fail(err, XRAD_ERROR_INPUT, "%s: cannot write: Is a directory", path);
+    FILE *f = fopen(path, "ab");
+    if (!f)
+        return cli_fail(err, XRAD_ERROR_INPUT, "%s: cannot write: %s", path, strerror(errno));
+    fclose(f);
+    if (!existed)
+        remove(path);
+    return XRAD_OK;
+}

@@ -62,5 +62,9 @@ const char *cli_basename_noext(const char *path, char *buf, size_t n);
 bool cli_has_ext(const char *path, const char *ext);
 /* mkdir -p of the directory part of `path`. */
 bool cli_make_parent_dirs(const char *path);
+/* Whether `path` can be written (its directories made, the file opened for
+ * appending; a file that did not exist is removed again), before a long
+ * run: else XRAD_ERROR_INPUT in err naming the path and the reason. */
+xrad_status cli_check_writable(const char *path, xrad_error *err);
 
 #endif

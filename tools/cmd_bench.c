@@ -29,7 +29,9 @@ static void help(void)
            "against: the CPU reference (\"cpu-reference\", the dense solver), or above\n"
            "--max-reference-elements its gather solver (\"cpu-gather\"), for the image and\n"
            "the elements alike.\n\n"
-           "  --methods LIST     comma-separated: %s [gather,progressive]\n"
+           "  --methods LIST     comma-separated: %s\n"
+           "                     [progressive,cross: the real-time ones; gather takes\n"
+           "                     minutes a frame on a CPU device]\n"
            "  --json FILE        also write the rows and ratios as JSON\n"
            "  --repeat N         timed frames per scene and method; the median is reported [3]\n"
            "  --time T, --fps F  start pose (s) and frame rate of scene time [0, 30]\n"
@@ -299,7 +301,7 @@ static int parse(int argc, char **argv, bench_opts *o)
 {
     cli_args a;
     cli_init(&a, argc, argv);
-    o->methods = "gather,progressive";
+    o->methods = "progressive,cross";
     o->cache = "out/bench-cache";
     o->repeat = 3;
     o->ref_rays = 32;

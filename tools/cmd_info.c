@@ -47,6 +47,13 @@ static int gpu_memory(const xrad_scene *scene, const char *method, const char *d
                mib((double)ms.total_peak));
         for (uint32_t c = 0; c < ms.count; c++)
             printf("  %-15s %10.3f MiB\n", ms.names[c], mib((double)ms.bytes[c]));
+        if (d.method == XRAD_METHOD_CROSS) {
+            xrad_solver_stats st;
+            xrad_solver_get_stats(s, &st);
+            printf("cross       %u patches on the dynamic objects, %u on the lights (a frame "
+                   "draws hemicubes of each; an object's cross_density sets its own)\n",
+                   st.cross_patches, st.cross_light_patches);
+        }
     }
     xrad_solver_destroy(&s);
     xrad_context_destroy(&ctx);

@@ -65,7 +65,7 @@ typedef struct render_opts {
 static void progress(void *user, const char *stage, double fraction)
 {
     (void)user;
-    fprintf(stderr, "\r  %-14s %5.1f%%", stage, 100.0 * fraction);
+    fprintf(stderr, "\r  %-18s %5.1f%%", stage, 100.0 * fraction);
     if (fraction >= 1.0)
         fputc('\n', stderr);
     fflush(stderr);
@@ -167,6 +167,14 @@ int cmd_render(int argc, char **argv)
     }
 
     xrad_error err = {0};
+    /* Outputs that cannot be written are said before the solve, not after. */
+    char first_frame[1024] = "";
+    if (o.frame_out)
+        snprintf(first_frame, sizeof(first_frame), "%s/frame-0000.png", o.frame_out);
+    const char *outputs[] = {o.exr, o.png, o.atlas, o.frame_out ? first_frame : NULL};
+    for (size_t k = 0; k < sizeof(outputs) / sizeof(outputs[0]); k++)
+        if (outputs[k] && cli_check_writable(outputs[k], &err))
+            return cli_report(&err);
     xrad_scene *scene = NULL;
     xrad_context *ctx = NULL;
     xrad_atlas atlas = {0};
@@ -190,6 +198,7 @@ int cmd_render(int argc, char **argv)
                 o.scene, info.elements, info.static_elements, info.dynamic_elements, o.method,
                 xrad_context_device_name(ctx));
         o.m.reference.progress = progress;
+        o.m.solver.progress = progress;
     }
     /* Frame 0 at --time, converged; then --frames more, 1/--fps apart:
      * incremental and cross redistribute from the previous frame (thesis
@@ -211,6 +220,11 @@ int cmd_render(int argc, char **argv)
         t_solve = cli_now();
         if (f > 0)
             frame_ms += (t_solve - tf0) * 1e3;
+        if (f == 0 && !o.quiet && res.gpu && res.stats.cross_patches)
+            fprintf(stderr,
+                    "xrad: cross: %u patches on the dynamic objects, %u on the lights (an "
+                    "object's cross_density sets its own; xrad info --method cross)\n",
+                    res.stats.cross_patches, res.stats.cross_light_patches);
         free(image);
         image = NULL;
         view = (xrad_view_desc){.width = o.width, .height = o.height, .time = t,
@@ -265,7 +279,7 @@ int cmd_render(int argc, char **argv)
             printf("wrote %s (%ux%u)\n", path, w, h);
     }
     if (res.gpu)
-        method_print_passes(&res);
+        method_print_passes(&res, o.frames ? "the last frame" : "the solve");
     else if (res.ref.solver == XRAD_REFERENCE_SOLVER_GATHER)
         printf("reference: gather (%u rays an element, lights by %u rays), rays %.3f s, "
                "Gauss-Seidel %.3f s, %u sweeps, residual %.2g\n",

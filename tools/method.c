@@ -170,6 +170,9 @@ void method_print_options(void)
         xrad_quality_format(&q, in->name, def, sizeof(def), NULL);
         if (in->kind == XRAD_SETTING_CHOICE)
             snprintf(text, sizeof(text), "%s: %s [%s]", in->description, in->choices, def);
+        else if (in->min_open)
+            snprintf(text, sizeof(text), "%s; (%g, %g] [%s]", in->description, in->min,
+                     in->max, def);
         else
             snprintf(text, sizeof(text), "%s; %g .. %g [%s]", in->description, in->min,
                      in->max, def);
@@ -289,12 +292,12 @@ xrad_status method_load_scene(const char *path, method_settings *m, xrad_scene *
     return st;
 }
 
-void method_print_passes(const method_result *r)
+void method_print_passes(const method_result *r, const char *what)
 {
     if (!r->gpu)
         return;
     const xrad_solver_stats *s = &r->stats;
-    printf("gpu passes (timestamp queries, hemicube path %s):\n",
+    printf("gpu passes of %s (timestamp queries, hemicube path %s):\n", what,
            s->hemicube_path ? s->hemicube_path : "-");
     for (uint32_t i = 0; i < s->pass_count; i++)
         printf("  %-14s %10.2f ms  (%u)\n", s->passes[i].name, s->passes[i].ms,

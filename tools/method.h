@@ -88,8 +88,9 @@ xrad_status method_run(xrad_context *ctx, const xrad_scene *scene, const char *n
                        const method_settings *settings, xrad_atlas *atlas,
                        method_result *result, xrad_error *err);
 
-/* Prints "  pass  ms (count)" lines for a GPU result. */
-void method_print_passes(const method_result *r);
+/* Prints "  pass  ms (count)" lines for a GPU result; `what` says whose
+ * ("the first solve", "the last frame"). */
+void method_print_passes(const method_result *r, const char *what);
 
 /* ------------------------------------------------ accuracy (README "Accuracy") */
 

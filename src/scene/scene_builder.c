@@ -884,6 +884,29 @@ static void default_camera(xrad_scene *sc)
     cam->position = v3_sub(centre, v3(0, 0, radius / sin(0.5 * cam->fov_y) + radius));
 }
 
+/* What solves but is likely not what was meant: no surface emits (every
+ * method gives black), a material no surface uses (a typo in a name). */
+static void warn_unlit(xrad_scene_builder *b)
+{
+    const xrad_scene *sc = b->sc;
+    bool *used = calloc(sc->material_count, sizeof(*used));
+    if (!used)
+        return;
+    bool lit = false;
+    for (uint32_t k = 0; k < sc->surface_count; k++) {
+        const material *m = &sc->materials[sc->surfaces[k].material];
+        used[sc->surfaces[k].material] = true;
+        lit = lit || m->emission.x > 0 || m->emission.y > 0 || m->emission.z > 0;
+    }
+    if (!lit)
+        scene_builder_warn(b, "no surface emits light: every method solves to black (a "
+                              "material's \"emission\")");
+    for (uint32_t k = 0; k < sc->material_count; k++)
+        if (!used[k])
+            scene_builder_warn(b, "material '%s' is used by no surface", sc->materials[k].name);
+    free(used);
+}
+
 xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, xrad_error *err)
 {
     *out = NULL;
@@ -911,6 +934,7 @@ xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, x
         return st;
     if (!b->has_camera)
         default_camera(sc);
+    warn_unlit(b);
     if ((st = scene_build_elements(sc, err))) {
         b->failed = true;
         return st;

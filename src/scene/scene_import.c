@@ -8,6 +8,7 @@
  * Bad input is refused naming the file and the node and mesh at fault;
  * what assimp would abort, hang or over-allocate on is refused before it
  * gets there (faces_sound, ply_check; tests/fuzz/README.md). */
+#include <errno.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
@@ -984,7 +985,8 @@ xrad_status scene_import_model(xrad_scene_builder *b, const char *path,
         head = grown;
         n += fread(head + n, 1, want - n, f);
         if (ferror(f))
-            st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: cannot read", path);
+            st = xrad_fail(err, errno == EISDIR ? XRAD_ERROR_INPUT : XRAD_ERROR_SYSTEM,
+                           "%s: cannot read: %s", path, strerror(errno));
         if (!has_ext(path, ".glb") || glb_json_end(head, n) <= n)
             break;
         want = glb_json_end(head, n);

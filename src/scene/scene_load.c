@@ -94,9 +94,11 @@ xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *d
         size_t got = fread(buf + len, 1, cap - len, f);
         len += got;
         if (got == 0) {
+            /* A directory opens and fails its first read (scenes/README.md:
+             * what may not be read is the user's error). */
             if (ferror(f))
-                st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: cannot read: %s", path,
-                               strerror(errno));
+                st = xrad_fail(err, errno == EISDIR ? XRAD_ERROR_INPUT : XRAD_ERROR_SYSTEM,
+                               "%s: cannot read: %s", path, strerror(errno));
             break;
         }
     }

@@ -288,6 +288,8 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
                                                    s->gs.diameter, &c->lights, err)))
         goto fail;
     c->L = c->lights.count;
+    s->stats.cross_patches = c->P;
+    s->stats.cross_light_patches = c->L;
     const VkPhysicalDeviceLimits *lim = &s->ctx->props.limits;
     uint32_t layers = lim->maxImageArrayLayers < lim->maxFramebufferLayers
                           ? lim->maxImageArrayLayers

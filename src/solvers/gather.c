@@ -156,6 +156,7 @@ static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
     xrad_status st = XRAD_OK;
     for (uint32_t first = 0; first < n && !st; first += DIRECT_PER_SUBMISSION) {
         uint32_t count = n - first < DIRECT_PER_SUBMISSION ? n - first : DIRECT_PER_SUBMISSION;
+        solver_progress(s, "gather: direct", (double)first / n);
         bool last = first + count == n;
         gpu_cmd c;
         if ((st = gpu_cmd_begin(s->ctx, &c, err)))
@@ -193,6 +194,7 @@ static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
     }
     if (st || !n)
         return st;
+    solver_progress(s, "gather: direct", 1);
     const vec4 *d = g->readback.alloc.mapped;
     uint32_t alarms = 0;
     for (uint32_t e = 0; e < n; e++) {
@@ -407,7 +409,10 @@ static xrad_status bounce(xrad_solver *s, gather *g, float scale, xrad_error *er
     uint32_t n = s->gs.element_count;
     xrad_status st = XRAD_OK;
     uint32_t first = 0;
+    char stage[32];
+    snprintf(stage, sizeof(stage), "gather: bounce %u", s->stats.iterations + 1);
     do {
+        solver_progress(s, stage, (double)first / n);
         gpu_cmd c;
         if ((st = gpu_cmd_begin(s->ctx, &c, err)))
             return st;
@@ -476,6 +481,7 @@ static xrad_status bounce(xrad_solver *s, gather *g, float scale, xrad_error *er
         if ((st = solver_submit_wait(s, &c, err)))
             return st;
     } while (first < n);
+    solver_progress(s, stage, 1);
     return XRAD_OK;
 }
 

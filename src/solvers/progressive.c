@@ -15,6 +15,7 @@
  * the largest emitted power (the select pass then records nothing more) or
  * after desc.max_iterations shots. Nothing is read back per shot.
  */
+#include <math.h>
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
@@ -218,6 +219,22 @@ fail:
     return st;
 }
 
+/* How far a solve has come, for desc.progress: the unshot power's way
+ * down to the stop, on a log scale (it falls about geometrically), by the
+ * criterion furthest from met. */
+static double progress(const progressive *p, const struct select_status *status)
+{
+    double f = 1;
+    if (status->max_power > 0 && p->select_params.threshold > 0 &&
+        p->select_params.threshold < 1 && status->power > 0)
+        f = fmin(f, log(status->power / status->max_power) / log(p->select_params.threshold));
+    if (status->max_unshot > 0 && p->select_params.unshot_share > 0 &&
+        p->select_params.unshot_share < 1 && status->unshot > 0)
+        f = fmin(f, log(status->unshot / status->max_unshot) /
+                        log(p->select_params.unshot_share));
+    return f < 0 ? 0 : f > 0.999 ? 0.999 : f;
+}
+
 /* One shot of Algorithm 4.2. */
 static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
 {
@@ -359,6 +376,7 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
         selected = status->selections - first;
         done = status->converged || selected >= limit ||
                status->selections >= s->desc.max_iterations;
+        solver_progress(s, "progressive", done ? 1 : progress(p, status));
     }
     s->stats.iterations += status->selections - first;
     s->stats.shots += status->patches - first_patches;

@@ -16,7 +16,6 @@ typedef enum value_rule {
     RULE_NONE,
     RULE_EVEN,       /* hemicube sizes: the centre of a face lies between texels */
     RULE_ONE_OR_FOUR, /* the sample counts the hemicube pass offers */
-    RULE_OPEN_LOW,   /* min itself is not allowed */
     RULE_ZERO_OK,    /* 0 is a value of its own ("until the threshold"), not "default" */
 } value_rule;
 
@@ -30,70 +29,70 @@ typedef struct setting {
 
 static const setting settings[] = {
     {{"hemicube_res", "pixels per hemicube face side, even (all methods)",
-      XRAD_SETTING_INTEGER, 64, 8, 1024, NULL},
+      XRAD_SETTING_INTEGER, 64, 8, 1024, NULL, 0},
      SOLVER(hemicube_res), RULE_EVEN},
     {{"msaa", "samples of gather's radiosity hemicubes, 1 or 4", XRAD_SETTING_INTEGER, 4, 1, 4,
-      NULL},
+      NULL, 0},
      SOLVER(msaa), RULE_ONE_OR_FOUR},
     {{"id_check", "ID hemicube visibility: the texel and its 8 neighbours, or the texel alone",
-      XRAD_SETTING_CHOICE, XRAD_ID_CHECK_NEIGHBOURS, 1, 2, "neighbours|exact"},
+      XRAD_SETTING_CHOICE, XRAD_ID_CHECK_NEIGHBOURS, 1, 2, "neighbours|exact", 0},
      SOLVER(id_check), RULE_NONE},
     {{"subdivide_ratio",
       "exact point-to-quad form factor where shooter area / distance^2 exceeds this, else the "
       "disk approximation (thesis 4.3.3)",
-      XRAD_SETTING_REAL, 0.01, 0, 1e6, NULL},
-     SOLVER(subdivide_ratio), RULE_OPEN_LOW},
+      XRAD_SETTING_REAL, 0.01, 0, 1e6, NULL, 1},
+     SOLVER(subdivide_ratio), RULE_NONE},
     {{"max_patches", "most shooting patches along a surface side (shooter subdivision)",
-      XRAD_SETTING_INTEGER, 8, 1, 64, NULL},
+      XRAD_SETTING_INTEGER, 8, 1, 64, NULL, 0},
      SOLVER(max_patches), RULE_NONE},
     {{"threshold",
       "stop when the largest unshot power (gather: the light the bounces still to come would "
       "add) relative to the emitted power is below this",
-      XRAD_SETTING_REAL, 1e-4, 0, 0.5, NULL},
-     SOLVER(threshold), RULE_OPEN_LOW},
+      XRAD_SETTING_REAL, 1e-4, 0, 0.5, NULL, 1},
+     SOLVER(threshold), RULE_NONE},
     {{"unshot",
       "progressive (and the dynamic methods' first solve): stop also only once all unshot "
       "power is below this share of the emitted power (1: no such test)",
-      XRAD_SETTING_REAL, 5e-3, 0, 1, NULL},
-     SOLVER(unshot), RULE_OPEN_LOW},
+      XRAD_SETTING_REAL, 5e-3, 0, 1, NULL, 1},
+     SOLVER(unshot), RULE_NONE},
     {{"batch", "progressive shots per submission (one host wait each)", XRAD_SETTING_INTEGER,
-      32, 1, 4096, NULL},
+      32, 1, 4096, NULL, 0},
      SOLVER(batch), RULE_NONE},
     {{"frame_shots",
       "incremental, cross: progressive shots after each redistribution (0: until the "
       "threshold)",
-      XRAD_SETTING_INTEGER, 0, 0, 1e7, NULL},
+      XRAD_SETTING_INTEGER, 0, 0, 1e7, NULL, 0},
      SOLVER(frame_shots), RULE_ZERO_OK},
     {{"cross_grid", "cross: PROJECTEDRADIOSITY rays per patch side (thesis 4.5.3 gridSize)",
-      XRAD_SETTING_INTEGER, 4, 1, 16, NULL},
+      XRAD_SETTING_INTEGER, 4, 1, 16, NULL, 0},
      SOLVER(cross_grid), RULE_NONE},
     {{"back_res", "cross: back hemicube face side, even (thesis 4.5.2)", XRAD_SETTING_INTEGER,
-      16, 8, 256, NULL},
+      16, 8, 256, NULL, 0},
      SOLVER(back_res), RULE_EVEN},
-    {{"back_msaa", "cross: back hemicube samples, 1 or 4", XRAD_SETTING_INTEGER, 4, 1, 4, NULL},
+    {{"back_msaa", "cross: back hemicube samples, 1 or 4", XRAD_SETTING_INTEGER, 4, 1, 4, NULL, 0},
      SOLVER(back_msaa), RULE_ONE_OR_FOUR},
     {{"radiosity_format", "texels of radiosity hemicubes (gather, cross)", XRAD_SETTING_CHOICE,
-      XRAD_RADIOSITY_FP16, 1, 2, "fp16|fp32"},
+      XRAD_RADIOSITY_FP16, 1, 2, "fp16|fp32", 0},
      SOLVER(radiosity_format), RULE_NONE},
     {{"ambient",
       "progressive, incremental, cross: add the unshot remainder spread evenly (ambient term, "
       "Cohen et al. 1988) to what is read",
-      XRAD_SETTING_CHOICE, XRAD_AMBIENT_OFF, 1, 2, "off|on"},
+      XRAD_SETTING_CHOICE, XRAD_AMBIENT_OFF, 1, 2, "off|on", 0},
      SOLVER(ambient), RULE_NONE},
     {{"conserve",
       "progressive shots: a shooter's receivers take at most its power (form factors scaled "
       "down where they would take more)",
-      XRAD_SETTING_CHOICE, XRAD_CONSERVE_ON, 1, 2, "on|off"},
+      XRAD_SETTING_CHOICE, XRAD_CONSERVE_ON, 1, 2, "on|off", 0},
      SOLVER(conserve), RULE_NONE},
     {{"cull",
       "leave out of a draw of hemicubes what none of them can see (clusters behind every "
       "base, closed meshes' clusters facing away); auto: shots in scenes of 8 clusters of "
       "256 triangles or more, not gather's hemicubes",
-      XRAD_SETTING_CHOICE, XRAD_CULL_AUTO, 1, 3, "on|off|auto"},
+      XRAD_SETTING_CHOICE, XRAD_CULL_AUTO, 1, 3, "on|off|auto", 0},
      SOLVER(cull), RULE_NONE},
     {{"density_scale", "every element density of the scene file times this (at load)",
-      XRAD_SETTING_REAL, 1, 0, 16, NULL},
-     offsetof(xrad_quality, density_scale), RULE_OPEN_LOW},
+      XRAD_SETTING_REAL, 1, 0, 16, NULL, 1},
+     offsetof(xrad_quality, density_scale), RULE_NONE},
 };
 
 #define SETTING_COUNT (sizeof(settings) / sizeof(settings[0]))
@@ -150,7 +149,7 @@ static xrad_status check(const setting *st, double v, xrad_error *err)
 {
     const xrad_setting_info *in = &st->info;
     bool ok = isfinite(v) && v <= in->max &&
-              (st->rule == RULE_OPEN_LOW ? v > in->min : v >= in->min);
+              (in->min_open ? v > in->min : v >= in->min);
     if (ok && in->kind != XRAD_SETTING_REAL)
         ok = v == floor(v);
     if (ok && st->rule == RULE_EVEN)
@@ -159,15 +158,15 @@ static xrad_status check(const setting *st, double v, xrad_error *err)
         ok = v == 1 || v == 4;
     if (ok)
         return XRAD_OK;
+    if (in->min_open)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s must be in (%g, %g], got %g", in->name,
+                         in->min, in->max, v);
     switch (st->rule) {
     case RULE_EVEN:
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s must be even and in [%g, %g], got %g",
                          in->name, in->min, in->max, v);
     case RULE_ONE_OR_FOUR:
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s must be 1 or 4, got %g", in->name, v);
-    case RULE_OPEN_LOW:
-        return xrad_fail(err, XRAD_ERROR_INPUT, "%s must be in (%g, %g], got %g", in->name,
-                         in->min, in->max, v);
     default:
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s must be %s in [%g, %g], got %g", in->name,
                          in->kind == XRAD_SETTING_REAL ? "a number" : "a whole number",

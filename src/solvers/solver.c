@@ -82,11 +82,13 @@ xrad_status xrad_solver_create(xrad_context *ctx, const xrad_scene *scene,
      * in is buried at that pose (gpu_scene.h; 1-5 ms a pose on one core
      * for the shipped scenes). Cross's restart draws C alone. */
     uint32_t scene_flags = d.method == XRAD_METHOD_CROSS ? 0u : GPU_SCENE_ENCLOSE_MOVING;
+    s->reporting = true;
     if ((st = gpu_scene_create(ctx, scene, d.time, scene_flags, &s->gs, err)) ||
         (st = gpu_timer_create(ctx, 256, &s->timer, err)) || (st = s->ops->create(s, err))) {
         xrad_solver_destroy(&s);
         return st;
     }
+    s->reporting = false;
     *out = s;
     return XRAD_OK;
 }
@@ -111,11 +113,21 @@ double solver_now_ms(void)
     return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
 }
 
+void solver_progress(const xrad_solver *s, const char *stage, double fraction)
+{
+    if (s->reporting && s->desc.progress)
+        s->desc.progress(s->desc.progress_user, stage,
+                         fraction < 0 ? 0 : fraction > 1 ? 1 : fraction);
+}
+
 void solver_stats_begin(xrad_solver *s)
 {
-    const char *path = s->stats.hemicube_path;
+    xrad_solver_stats kept = s->stats;
     memset(&s->stats, 0, sizeof(s->stats));
-    s->stats.hemicube_path = path;
+    /* What creation fixed stays. */
+    s->stats.hemicube_path = kept.hemicube_path;
+    s->stats.cross_patches = kept.cross_patches;
+    s->stats.cross_light_patches = kept.cross_light_patches;
     /* Pass times are per call. */
     memset(s->timer->totals, 0, sizeof(s->timer->totals));
     s->timer->name_count = 0;
@@ -126,7 +138,9 @@ xrad_status xrad_solver_solve(xrad_solver *s, xrad_error *err)
     solver_stats_begin(s);
     double t0 = solver_now_ms();
     s->solved = false;
+    s->reporting = true;
     xrad_status st = s->ops->solve(s, err);
+    s->reporting = false;
     s->stats.wall_ms = solver_now_ms() - t0;
     s->solved = st == XRAD_OK;
     return st;

@@ -38,6 +38,7 @@ struct xrad_solver {
     const solver_ops *ops;
     void *impl;
     bool solved; /* B holds a solution at the current pose (advance may redistribute it) */
+    bool reporting; /* in create or solve: desc.progress is called (solver_progress) */
 };
 
 extern const solver_ops gather_ops;
@@ -60,6 +61,8 @@ static inline bool solver_culls(const struct xrad_solver *s, uint32_t clusters)
 
 /* Host monotonic clock, ms. */
 double solver_now_ms(void);
+/* desc.progress(stage, fraction) where there is one, in create and solve. */
+void solver_progress(const xrad_solver *s, const char *stage, double fraction);
 
 /* Clears the per-call statistics and pass times (keeps the hemicube path). */
 void solver_stats_begin(struct xrad_solver *s);

@@ -75,6 +75,22 @@ printf '{"objects": [' >"$tmp/truncated.json"
 expect 1 "malformed JSON" -- "$xrad" info "$tmp/truncated.json"
 expect_text "$tmp/err" "truncated.json" "message names the file"
 expect 1 "missing file" -- "$xrad" info "$tmp/does-not-exist.json"
+# An output that cannot be written is refused before the solve (nothing
+# solved: no timing line on stdout).
+: >"$tmp/plain-file"
+expect 1 "an output under a file" -- "$xrad" render "$root/scenes/cornell-box.json" --method progressive --out "$tmp/plain-file/x.png" --quiet
+expect_text "$tmp/err" "plain-file/x.png: cannot write: Not a directory" "the output is named"
+checks=$((checks + 1))
+if grep -q "time:" "$tmp/out"; then
+    fails=$((fails + 1))
+    echo "FAIL: the solve ran before the output was found unwritable"
+fi
+# A directory opens and fails its first read: the user's error all the same.
+mkdir -p "$tmp/dir.json" "$tmp/dir.glb"
+expect 1 "a directory as the scene" -- "$xrad" render "$tmp/dir.json" --quiet
+expect_text "$tmp/err" "dir.json: cannot read: Is a directory" "the directory is named"
+expect 1 "a directory as the model" -- "$xrad" info "$tmp/dir.glb" --no-gpu
+expect_text "$tmp/err" "dir.glb: cannot read: Is a directory" "the directory is named"
 expect_text "$tmp/err" "does-not-exist.json" "message names the file"
 
 # unknown device: bad input, and the message lists what there is
@@ -93,6 +109,18 @@ cat >"$tmp/tiny.json" <<'JSON'
  "camera": {"position": [0.5, 0.5, 0.05], "look_at": [0.5, 0.5, 1], "up": [0, 1, 0], "fov_degrees": 60, "width": 64, "height": 64}}
 JSON
 expect 0 "render tiny" -- "$xrad" render "$tmp/tiny.json" --out "$tmp/tiny.exr" --quiet
+# Long solves say how far they are on stderr (unless --quiet).
+expect 0 "progress of a progressive solve" -- "$xrad" render "$tmp/tiny.json" --method progressive --out "$tmp/p.png"
+expect_text "$tmp/err" "progressive  *100.0%" "progressive's progress"
+expect 0 "progress of gather" -- "$xrad" render "$tmp/tiny.json" --method gather --out "$tmp/g.png"
+expect_text "$tmp/err" "gather: direct  *100.0%" "gather's direct light"
+expect_text "$tmp/err" "gather: bounce 2  *100.0%" "gather's bounces"
+# What solves but is likely not meant is said: no emitter, a material no
+# surface uses.
+sed 's/"light", "material": "lamp"/"light", "material": "white"/' "$tmp/tiny.json" >"$tmp/dark.json"
+expect 0 "a scene without emitters" -- "$xrad" info "$tmp/dark.json" --no-gpu
+expect_text "$tmp/err" "warning: no surface emits light" "no emitter is said"
+expect_text "$tmp/err" "warning: material 'lamp' is used by no surface" "the unused material is named"
 expect_text "$tmp/out" "tiny.exr" "render says where the image went"
 expect_text "$tmp/out" "time:" "render prints its timings"
 expect 0 "render tiny png" -- "$xrad" render "$tmp/tiny.json" --png "$tmp/tiny.png" --exr "$tmp/tiny2.exr" --quiet
@@ -196,6 +224,20 @@ expect_text "$tmp/err" "needs .* MiB of GPU memory, but only" "needed and availa
 # Quality: presets and settings from the command line and the scene file,
 # named errors for bad values.
 expect 0 "preset draft" -- "$xrad" render "$tmp/tiny.json" --method progressive --preset draft --exr "$tmp/q.exr" --quiet
+# A preset's density applies (a preset table short of a column once read
+# every preset's density as the default): draft lays out the elements of
+# --density-scale 0.5, not those of the defaults.
+for q in "--preset draft" "--density-scale 0.5" ""; do
+    # shellcheck disable=SC2086 # the options split into words
+    expect 0 "info $q" -- "$xrad" info "$root/scenes/cornell-box.json" --no-gpu $q
+    grep '^elements' "$tmp/out" >"$tmp/elements${q:+-}$(echo "$q" | tr -d ' .-')"
+done
+checks=$((checks + 1))
+if ! cmp -s "$tmp/elements-presetdraft" "$tmp/elements-densityscale05" ||
+    cmp -s "$tmp/elements-presetdraft" "$tmp/elements"; then
+    fails=$((fails + 1))
+    echo "FAIL: --preset draft: $(cat "$tmp/elements-presetdraft"); density 0.5: $(cat "$tmp/elements-densityscale05"); default: $(cat "$tmp/elements")"
+fi
 expect 1 "odd hemicube resolution" -- "$xrad" render "$tmp/tiny.json" --method progressive --hemicube-res 33
 expect_text "$tmp/err" "hemicube_res" "the setting is named"
 expect 1 "unknown preset" -- "$xrad" render "$tmp/tiny.json" --method progressive --preset ultra
@@ -208,6 +250,10 @@ expect_text "$tmp/err" "quality.hemicube_res" "the scene field is named"
 expect 0 "info with GPU memory" -- "$xrad" info "$tmp/tiny.json" --method cross
 expect_text "$tmp/out" "redistribution" "memory by category"
 expect_text "$tmp/out" "render targets" "memory by category"
+# cross says how many patches it made: cornell-lowq's box at cross_density
+# 3 has 2 x 2 blocks on each of its 6 faces (sides under 1/3 m: 2 samples).
+expect 0 "info, cross patches" -- "$xrad" info "$root/scenes/cornell-lowq.json" --method cross
+expect_text "$tmp/out" "cross       24 patches on the dynamic objects" "the patch count"
 
 # The sweep: a 2-point grid writes CSV, JSON and a well-formed SVG with a
 # Pareto front.
