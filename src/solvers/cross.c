@@ -297,8 +297,9 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
     if ((uint64_t)(c->P > c->L ? c->P : c->L) * HEMICUBE_FACES > layers) {
         st = xrad_fail(err, XRAD_ERROR_INPUT,
                        "%s: the dynamic objects have %u cross patches (cross_density, or "
-                       "max_patches %u per side where none is given) and the lights %u; the "
-                       "device draws at most %u hemicubes at once",
+                       "blocks of a quarter of the object's size, at most max_patches %u a "
+                       "side, where none is given) and the lights %u; the device draws at most "
+                       "%u hemicubes at once",
                        s->scene->path, c->P, s->desc.max_patches, c->L,
                        layers / HEMICUBE_FACES);
         goto fail;

@@ -4,8 +4,8 @@
  * the moving object than the other methods), shared by the dynamic
  * methods. Each dynamic surface is cut into cx x cy blocks of its
  * elements, cx x cy the sample counts its object's cross_density gives
- * (scene.h; without one, the smaller of the element count and max_patches
- * per side), each block one patch; patch (ci, cj) also owns the coarse
+ * (scene.h; without one, the counts of a density of 4 per object diagonal,
+ * at most max_patches), at most the element counts, each block one patch; patch (ci, cj) also owns the coarse
  * sample (ci, cj) of the surface (spirv/cross_shared.h). Host only: the
  * layout is fixed at build, the frames are made per pose.
  */
@@ -37,7 +37,7 @@ typedef struct dynamic_patches {
  * whose object has no cross_density. With `groups` (cross), the faces of
  * dynamic meshes (surface.mesh) are grouped instead, about 1 /
  * cross_density a side, faces of one cone of normals together (without
- * cross_density, the object's diagonal / max_patches): a group's one
+ * cross_density, a quarter of the object's diagonal): a group's one
  * patch shoots the area mean of its faces from a hemicube above them all
  * (dynamic_patches_pose). Incremental keeps blocks: its select pass cuts
  * surfaces, not groups. A scene without dynamic surfaces has count 0 (and

@@ -75,6 +75,7 @@ printf '{"objects": [' >"$tmp/truncated.json"
 expect 1 "malformed JSON" -- "$xrad" info "$tmp/truncated.json"
 expect_text "$tmp/err" "truncated.json" "message names the file"
 expect 1 "missing file" -- "$xrad" info "$tmp/does-not-exist.json"
+expect_text "$tmp/err" "does-not-exist.json" "message names the file"
 # An output that cannot be written is refused before the solve (nothing
 # solved: no timing line on stdout).
 : >"$tmp/plain-file"
@@ -91,7 +92,6 @@ expect 1 "a directory as the scene" -- "$xrad" render "$tmp/dir.json" --quiet
 expect_text "$tmp/err" "dir.json: cannot read: Is a directory" "the directory is named"
 expect 1 "a directory as the model" -- "$xrad" info "$tmp/dir.glb" --no-gpu
 expect_text "$tmp/err" "dir.glb: cannot read: Is a directory" "the directory is named"
-expect_text "$tmp/err" "does-not-exist.json" "message names the file"
 
 # unknown device: bad input, and the message lists what there is
 expect 1 "unknown device" -- "$xrad" devices --device no-such-device-xyz
@@ -109,6 +109,8 @@ cat >"$tmp/tiny.json" <<'JSON'
  "camera": {"position": [0.5, 0.5, 0.05], "look_at": [0.5, 0.5, 1], "up": [0, 1, 0], "fov_degrees": 60, "width": 64, "height": 64}}
 JSON
 expect 0 "render tiny" -- "$xrad" render "$tmp/tiny.json" --out "$tmp/tiny.exr" --quiet
+expect_text "$tmp/out" "tiny.exr" "render says where the image went"
+expect_text "$tmp/out" "time:" "render prints its timings"
 # Long solves say how far they are on stderr (unless --quiet).
 expect 0 "progress of a progressive solve" -- "$xrad" render "$tmp/tiny.json" --method progressive --out "$tmp/p.png"
 expect_text "$tmp/err" "progressive  *100.0%" "progressive's progress"
@@ -121,8 +123,6 @@ sed 's/"light", "material": "lamp"/"light", "material": "white"/' "$tmp/tiny.jso
 expect 0 "a scene without emitters" -- "$xrad" info "$tmp/dark.json" --no-gpu
 expect_text "$tmp/err" "warning: no surface emits light" "no emitter is said"
 expect_text "$tmp/err" "warning: material 'lamp' is used by no surface" "the unused material is named"
-expect_text "$tmp/out" "tiny.exr" "render says where the image went"
-expect_text "$tmp/out" "time:" "render prints its timings"
 expect 0 "render tiny png" -- "$xrad" render "$tmp/tiny.json" --png "$tmp/tiny.png" --exr "$tmp/tiny2.exr" --quiet
 [ -s "$tmp/tiny.png" ] || { fails=$((fails + 1)); echo "FAIL: no PNG written"; }
 expect 0 "compare identical" -- "$xrad" compare "$tmp/tiny.exr" "$tmp/tiny2.exr"
