@@ -33,6 +33,9 @@ static void help(void)
            "  --fps F           frames per second of scene time [30]\n"
            "  --frame-out DIR   also write every frame as DIR/frame-NNNN.png\n"
            "  --nearest         show elements as flat squares (no interpolation)\n"
+           "  --check           GPU methods: also solve the CPU reference at the last\n"
+           "                    frame's pose and print the error against it (README\n"
+           "                    \"Accuracy\": surface_error, element p50/p95, mean ratio)\n"
            "  --visibility V    reference: clip (exact polygon clipping), rays (every pair\n"
            "                    by --rays rays through an Embree BVH: meshes), auto (clip up\n"
            "                    to 256 surfaces) [auto]\n"
@@ -58,7 +61,7 @@ typedef struct render_opts {
     double time, exposure, fps;
     uint32_t frames;
     const char *frame_out;
-    int nearest, quiet;
+    int nearest, quiet, check;
     method_settings m;
 } render_opts;
 
@@ -135,6 +138,8 @@ static int parse(int argc, char **argv, render_opts *o)
             o->device = cli_value(&a);
         } else if (!strcmp(opt, "quiet")) {
             o->quiet = 1;
+        } else if (!strcmp(opt, "check")) {
+            o->check = 1;
         } else {
             cli_unknown(&a, opt);
         }
@@ -148,6 +153,33 @@ static int parse(int argc, char **argv, render_opts *o)
         return cli_usage_error("render", "--method %s: unknown method (available: %s)",
                                o->method, method_list());
     return 0;
+}
+
+/* --check: the CPU reference at time t, and the GPU solution's error
+ * against it per surface and per element (xrad_atlas_compare). */
+static xrad_status check_reference(const render_opts *o, const xrad_scene *scene,
+                                   const xrad_atlas *got, double t, xrad_error *err)
+{
+    xrad_atlas ref = {0};
+    xrad_reference_desc d = o->m.reference;
+    d.time = t;
+    if (!o->quiet)
+        d.progress = progress;
+    xrad_reference_stats rr;
+    double t0 = cli_now();
+    xrad_element_metrics m;
+    xrad_status st = xrad_atlas_create(scene, &ref, err);
+    if (!st && !(st = xrad_reference_solve(scene, &d, &ref, &rr, err)) &&
+        !(st = xrad_atlas_compare(scene, got, &ref, &m, NULL, err))) {
+        char worst[256];
+        method_surface_label(scene, m.worst_surface, worst, sizeof(worst));
+        printf("against the CPU reference at t = %.3f s (%.1f s): surface_error %.4f (%s, "
+               "ratio %.4f), element p50 %.4f, p95 %.4f, mean ratio %.4f\n",
+               t, cli_now() - t0, m.surface_error, worst, m.worst_ratio, m.p50, m.p95,
+               m.mean_ratio);
+    }
+    xrad_atlas_destroy(&ref);
+    return st;
 }
 
 int cmd_render(int argc, char **argv)
@@ -278,9 +310,11 @@ int cmd_render(int argc, char **argv)
         else
             printf("wrote %s (%ux%u)\n", path, w, h);
     }
-    if (res.gpu)
+    if (res.gpu) {
         method_print_passes(&res, o.frames ? "the last frame" : "the solve");
-    else if (res.ref.solver == XRAD_REFERENCE_SOLVER_GATHER)
+        if (o.check && check_reference(&o, scene, &atlas, view.time, &err))
+            goto fail;
+    } else if (res.ref.solver == XRAD_REFERENCE_SOLVER_GATHER)
         printf("reference: gather (%u rays an element, lights by %u rays), rays %.3f s, "
                "Gauss-Seidel %.3f s, %u sweeps, residual %.2g\n",
                res.ref.gather_rays, res.ref.rays, res.ref.form_factor_seconds,

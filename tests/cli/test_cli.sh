@@ -111,6 +111,9 @@ JSON
 expect 0 "render tiny" -- "$xrad" render "$tmp/tiny.json" --out "$tmp/tiny.exr" --quiet
 expect_text "$tmp/out" "tiny.exr" "render says where the image went"
 expect_text "$tmp/out" "time:" "render prints its timings"
+# --check: the error against the CPU reference at the last frame's pose.
+expect 0 "render --check" -- "$xrad" render "$tmp/tiny.json" --method progressive --check --out "$tmp/c.png" --quiet
+expect_text "$tmp/out" "against the CPU reference at t = 0.000 s (.*): surface_error [0-9.]* (.*), element p50 [0-9.]*, p95 [0-9.]*, mean ratio [0-9.]*$" "the figures"
 # Long solves say how far they are on stderr (unless --quiet).
 expect 0 "progress of a progressive solve" -- "$xrad" render "$tmp/tiny.json" --method progressive --out "$tmp/p.png"
 expect_text "$tmp/err" "progressive  *100.0%" "progressive's progress"
