@@ -7,7 +7,9 @@
 // shot), the shooter table with each patch's mean unshot radiosity and its
 // randomly rotated hemicube frame (thesis 4.2), Algorithm 4.2 line 7 (clear
 // the chosen quad's unshot radiosity), and the indirect parameters that
-// size the next passes. Nothing is read by the host per shot.
+// size the next passes; with a group, more surfaces in the same shot, and
+// the sum of all unshot power for the stop (make_shooter, joins, main).
+// Nothing is read by the host per shot.
 #extension GL_GOOGLE_include_directive : require
 #include "radiosity.h"
 #include "select_shared.h"

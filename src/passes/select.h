@@ -15,6 +15,13 @@
  * hemicubes, the indirect dispatch of the reconstruct pass, the counters
  * and the sticky converged flag. Once converged, later shots write zero
  * counts and change nothing. The host reads nothing per shot.
+ *
+ * With group_shooters, surfaces of one patch and few elements that hold at
+ * least SELECT_GROUP_SHARE of the chosen one's power join its shot, one
+ * shooter each after its patches (a mesh's faces go many a shot). The pass
+ * also sums all the powers (status.unshot); with unshot_share it does not
+ * converge while that sum exceeds the share of the first sum, whatever the
+ * largest surface holds.
  */
 #ifndef XRAD_PASSES_SELECT_H
 #define XRAD_PASSES_SELECT_H

@@ -12,8 +12,10 @@
  * desc.batch shots go into one command buffer with the barriers between
  * them; the host submits it, waits once, and reads the select pass's status
  * word once, to stop when the largest unshot power fell to desc.threshold x
- * the largest emitted power (the select pass then records nothing more) or
- * after desc.max_iterations shots. Nothing is read back per shot.
+ * the largest emitted power and all of it, over every surface, to
+ * desc.unshot x the emitted (the select pass then records nothing more), or
+ * after desc.max_iterations shots. Nothing is read back per shot. Solves
+ * from B = E shoot in groups (select.h): a mesh's faces many a shot.
  */
 #include <math.h>
 #include <stddef.h>
