@@ -898,12 +898,15 @@ static void warn_unlit(xrad_scene_builder *b)
         used[sc->surfaces[k].material] = true;
         lit = lit || m->emission.x > 0 || m->emission.y > 0 || m->emission.z > 0;
     }
+    /* Warnings name the file (tests/fuzz/fuzz_import.c holds them to it). */
     if (!lit)
-        scene_builder_warn(b, "no surface emits light: every method solves to black (a "
-                              "material's \"emission\")");
+        scene_builder_warn(b, "%s: no surface emits light: every method solves to black (a "
+                              "material's \"emission\")",
+                           sc->path);
     for (uint32_t k = 0; k < sc->material_count; k++)
         if (!used[k])
-            scene_builder_warn(b, "material '%s' is used by no surface", sc->materials[k].name);
+            scene_builder_warn(b, "%s: material '%s' is used by no surface", sc->path,
+                               sc->materials[k].name);
     free(used);
 }
 

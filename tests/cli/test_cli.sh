@@ -124,8 +124,8 @@ expect_text "$tmp/err" "gather: bounce 2  *100.0%" "gather's bounces"
 # surface uses.
 sed 's/"light", "material": "lamp"/"light", "material": "white"/' "$tmp/tiny.json" >"$tmp/dark.json"
 expect 0 "a scene without emitters" -- "$xrad" info "$tmp/dark.json" --no-gpu
-expect_text "$tmp/err" "warning: no surface emits light" "no emitter is said"
-expect_text "$tmp/err" "warning: material 'lamp' is used by no surface" "the unused material is named"
+expect_text "$tmp/err" "warning: .*dark.json: no surface emits light" "no emitter is said"
+expect_text "$tmp/err" "warning: .*dark.json: material 'lamp' is used by no surface" "the unused material is named"
 expect 0 "render tiny png" -- "$xrad" render "$tmp/tiny.json" --png "$tmp/tiny.png" --exr "$tmp/tiny2.exr" --quiet
 [ -s "$tmp/tiny.png" ] || { fails=$((fails + 1)); echo "FAIL: no PNG written"; }
 expect 0 "compare identical" -- "$xrad" compare "$tmp/tiny.exr" "$tmp/tiny2.exr"
