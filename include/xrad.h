@@ -22,6 +22,17 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "xrad_version.h"
+
+/* What libxrad exports: the functions declared with it; the shared
+ * library hides every other symbol (its objects are built with
+ * -fvisibility=hidden). */
+#if defined(__GNUC__) || defined(__clang__)
+#define XRAD_API __attribute__((visibility("default")))
+#else
+#define XRAD_API
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -38,6 +49,10 @@ typedef struct xrad_error {
     char message[1024];
 } xrad_error;
 
+/* The library's version, "MAJOR.MINOR.PATCH" (XRAD_VERSION is the
+ * headers'). */
+XRAD_API const char *xrad_version(void);
+
 /* ------------------------------------------------------------------ scene */
 
 typedef struct xrad_scene xrad_scene;
@@ -46,7 +61,7 @@ typedef struct xrad_scene xrad_scene;
  * a JSON scene, or a model file (.gltf, .glb, .obj, .ply) as a scene by
  * itself.
  * On success *out owns the scene; release it with xrad_scene_destroy. */
-xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err);
+XRAD_API xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err);
 
 typedef struct xrad_scene_load_desc {
     /* Every element density in the file times this; 0: the file's own
@@ -58,24 +73,24 @@ typedef struct xrad_scene_load_desc {
 } xrad_scene_load_desc;
 
 /* xrad_scene_load with options; desc may be NULL. */
-xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *desc,
-                                 xrad_scene **out, xrad_error *err);
+XRAD_API xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *desc,
+                                          xrad_scene **out, xrad_error *err);
 
 /* Same, from JSON text in memory; `name` stands for the file in messages. */
-xrad_status xrad_scene_parse(const char *json, size_t len, const char *name,
-                             xrad_scene **out, xrad_error *err);
-xrad_status xrad_scene_parse_with(const char *json, size_t len, const char *name,
-                                  const xrad_scene_load_desc *desc, xrad_scene **out,
-                                  xrad_error *err);
+XRAD_API xrad_status xrad_scene_parse(const char *json, size_t len, const char *name,
+                                      xrad_scene **out, xrad_error *err);
+XRAD_API xrad_status xrad_scene_parse_with(const char *json, size_t len, const char *name,
+                                           const xrad_scene_load_desc *desc, xrad_scene **out,
+                                           xrad_error *err);
 
 /* Accepts NULL and *scene == NULL; sets *scene to NULL. */
-void xrad_scene_destroy(xrad_scene **scene);
+XRAD_API void xrad_scene_destroy(xrad_scene **scene);
 
 /* What loading noticed and left out (a model file's textures, metalness,
  * skins, ...: scenes/README.md "Model files"), one line each, valid while
  * the scene lives; NULL past the count. */
-uint32_t xrad_scene_warning_count(const xrad_scene *scene);
-const char *xrad_scene_warning(const xrad_scene *scene, uint32_t index);
+XRAD_API uint32_t xrad_scene_warning_count(const xrad_scene *scene);
+XRAD_API const char *xrad_scene_warning(const xrad_scene *scene, uint32_t index);
 
 /* ---------------------------------------------------------- scene builder */
 
@@ -94,11 +109,11 @@ typedef struct xrad_scene_builder_desc {
 } xrad_scene_builder_desc;
 
 /* desc may be NULL. */
-xrad_status xrad_scene_builder_create(const xrad_scene_builder_desc *desc,
-                                      xrad_scene_builder **out, xrad_error *err);
+XRAD_API xrad_status xrad_scene_builder_create(const xrad_scene_builder_desc *desc,
+                                               xrad_scene_builder **out, xrad_error *err);
 
 /* Accepts NULL and *builder == NULL; sets *builder to NULL. */
-void xrad_scene_builder_destroy(xrad_scene_builder **builder);
+XRAD_API void xrad_scene_builder_destroy(xrad_scene_builder **builder);
 
 typedef struct xrad_material_desc {
     const char *name;   /* unique among the materials */
@@ -107,8 +122,9 @@ typedef struct xrad_material_desc {
 } xrad_material_desc;
 
 /* *index (may be NULL) receives the material's index for the surfaces. */
-xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_material_desc *m,
-                                            uint32_t *index, xrad_error *err);
+XRAD_API xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b,
+                                                     const xrad_material_desc *m, uint32_t *index,
+                                                     xrad_error *err);
 
 typedef struct xrad_keyframe {
     double time;         /* s, >= 0, strictly increasing */
@@ -139,8 +155,8 @@ typedef struct xrad_object_desc {
 } xrad_object_desc;
 
 /* Starts an object; the quads and meshes added after it belong to it. */
-xrad_status xrad_scene_builder_begin_object(xrad_scene_builder *b, const xrad_object_desc *o,
-                                            xrad_error *err);
+XRAD_API xrad_status xrad_scene_builder_begin_object(xrad_scene_builder *b,
+                                                     const xrad_object_desc *o, xrad_error *err);
 
 typedef struct xrad_quad_desc {
     const char *name;     /* unique within the object */
@@ -152,8 +168,8 @@ typedef struct xrad_quad_desc {
                              the density */
 } xrad_quad_desc;
 
-xrad_status xrad_scene_builder_add_quad(xrad_scene_builder *b, const xrad_quad_desc *q,
-                                        xrad_error *err);
+XRAD_API xrad_status xrad_scene_builder_add_quad(xrad_scene_builder *b, const xrad_quad_desc *q,
+                                                 xrad_error *err);
 
 typedef struct xrad_mesh_desc {
     const char *name;          /* its surfaces are named NAME.0, NAME.1, ... */
@@ -173,8 +189,8 @@ typedef struct xrad_mesh_desc {
  * split in two comes back whole); every other triangle is a surface of
  * its own. Triangles of zero area are skipped and counted in the scene's
  * info. */
-xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_desc *m,
-                                        xrad_error *err);
+XRAD_API xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_desc *m,
+                                                 xrad_error *err);
 
 typedef struct xrad_camera_desc {
     double position[3], look_at[3]; /* m, world */
@@ -184,12 +200,13 @@ typedef struct xrad_camera_desc {
 } xrad_camera_desc;
 
 /* Without it the camera looks along +z at the whole scene. */
-xrad_status xrad_scene_builder_set_camera(xrad_scene_builder *b, const xrad_camera_desc *c,
-                                          xrad_error *err);
+XRAD_API xrad_status xrad_scene_builder_set_camera(xrad_scene_builder *b, const xrad_camera_desc *c,
+                                                   xrad_error *err);
 
 /* Checks names, samples the elements and packs the atlas. On success *out
  * owns the scene and the builder is left empty (destroy it). */
-xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, xrad_error *err);
+XRAD_API xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out,
+                                               xrad_error *err);
 
 typedef struct xrad_scene_info {
     uint32_t objects, dynamic_objects;
@@ -204,7 +221,7 @@ typedef struct xrad_scene_info {
     uint32_t skipped_triangles;         /* zero-area mesh triangles left out */
 } xrad_scene_info;
 
-void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info);
+XRAD_API void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info);
 
 typedef struct xrad_object_info {
     const char *name; /* the file's object name; valid while the scene lives */
@@ -214,9 +231,56 @@ typedef struct xrad_object_info {
 
 /* Object `index` (0 .. info.objects - 1) in file order; XRAD_ERROR_INPUT
  * for an index out of range. */
-xrad_status xrad_scene_get_object(const xrad_scene *scene, uint32_t index,
-                                  xrad_object_info *info, xrad_error *err);
+XRAD_API xrad_status xrad_scene_get_object(const xrad_scene *scene, uint32_t index,
+                                           xrad_object_info *info, xrad_error *err);
 
+/* Object `index`'s pose at scene time `time` (its animation and its
+ * xrad_scene_set_offset): the object-space to world matrix, column-major
+ * 4 x 4 (matrix[12..14] the translation), as GLSL's mat4 takes it. */
+XRAD_API xrad_status xrad_scene_get_object_pose(const xrad_scene *scene, uint32_t index,
+                                                double time, double matrix[16],
+                                                xrad_error *err);
+
+typedef struct xrad_material_info {
+    const char *name;   /* valid while the scene lives */
+    double albedo[3];   /* each in [0, 1) */
+    double emission[3]; /* W/m^2, radiant exitance */
+} xrad_material_info;
+
+/* Material `index` (0 .. info.materials - 1); XRAD_ERROR_INPUT out of
+ * range. */
+XRAD_API xrad_status xrad_scene_get_material(const xrad_scene *scene, uint32_t index,
+                                             xrad_material_info *info, xrad_error *err);
+
+/* A surface and where its radiosity lies in the atlas (thesis 4.1).
+ *
+ * A surface is P(s, t) = (1-s)(1-t) p0 + s(1-t) p1 + s t p2 + (1-s) t p3
+ * over s, t in [0, 1] (`corners`); a triangle has p3 == p2, its apex at
+ * t = 1. It owns a tile of nu x nv texels from texel (tile_x, tile_y):
+ * element (i, j) is texel (tile_x + i, tile_y + j) and samples the
+ * surface at s = i / (nu - 1), t = j / (nv - 1), so the texel centres of
+ * the outer rows lie on the surface's edges and bilinear filtering inside
+ * the tile interpolates between samples. The point at (s, t) reads the
+ * atlas (xrad_atlas, or the image a frame of the real-time loop shows) at
+ *
+ *     uv = (tile + 0.5 + (s, t) * (n - 1)) / atlas_size
+ *
+ * with tile = (tile_x, tile_y), n = (nu, nv) and atlas_size from
+ * xrad_scene_info (a lone element, nu = nv = 1, reads its texel's
+ * centre). To draw a surface with xrad's radiosity, give corner k, whose
+ * parameters are (s_k, t_k) = (0, 0), (1, 0), (1, 1), (0, 1), the vertex
+ * attribute a_k = (s_k w_k, t_k, w_k) with w_k = 1, except a triangle's
+ * apex p2: a_2 = (0, 1, 0). Interpolated linearly over the surface's
+ * triangles (p0 p1 p2, and p0 p2 p3 for a quad), a gives (s, t) exactly
+ * for triangles and parallelogram quads:
+ *
+ *     layout(location = 1) in vec3 a;
+ *     vec2 st = vec2(a.z > 0.0 ? a.x / a.z : 0.5, a.y);
+ *     vec2 uv = (tile + 0.5 + st * (n - 1.0)) / atlas_size;
+ *     vec3 radiosity = texture(atlas, uv).rgb; // W/m^2
+ *
+ * (a triangle's a.x / a.z undoes its collapse at the apex: s (1 - t) and
+ * 1 - t interpolate linearly, s does not). */
 typedef struct xrad_surface_info {
     const char *name;            /* valid while the scene lives */
     uint32_t object;             /* index of its object */
@@ -225,11 +289,15 @@ typedef struct xrad_surface_info {
                                     triangle's u edge is its longest, v the next from p0 */
     double area;                 /* m^2 */
     int triangle;                /* 1: a triangle (mesh), 0: a quad */
+    uint32_t material;           /* index (xrad_scene_get_material) */
+    uint32_t tile_x, tile_y;     /* atlas texel of element (0, 0) */
+    double corners[4][3];        /* m, object space: p0 .. p3 as drawn */
+    double normal[3];            /* object space, unit: the side that emits and receives */
 } xrad_surface_info;
 
 /* Surface `index` (0 .. info.surfaces - 1); XRAD_ERROR_INPUT out of range. */
-xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
-                                   xrad_surface_info *info, xrad_error *err);
+XRAD_API xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
+                                            xrad_surface_info *info, xrad_error *err);
 
 /* Displaces dynamic object `index` by `offset` (m, world) on top of its
  * animation, at every scene time: moving an object by hand. A solver sees
@@ -237,8 +305,8 @@ xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
  * of the object; solvers keep what they need of the pose in hand, so the
  * offset may change between frames. XRAD_ERROR_INPUT for a static object,
  * an index out of range or a non-finite offset beyond 1e9 m. */
-xrad_status xrad_scene_set_offset(xrad_scene *scene, uint32_t index, const double offset[3],
-                                  xrad_error *err);
+XRAD_API xrad_status xrad_scene_set_offset(xrad_scene *scene, uint32_t index,
+                                           const double offset[3], xrad_error *err);
 
 /* A radiosity solution in the scene's atlas layout: atlas_width x
  * atlas_height texels, RGBA float, row-major; texels that belong to no
@@ -249,8 +317,8 @@ typedef struct xrad_atlas {
 } xrad_atlas;
 
 /* Allocates a zeroed atlas of the scene's size. */
-xrad_status xrad_atlas_create(const xrad_scene *scene, xrad_atlas *atlas, xrad_error *err);
-void xrad_atlas_destroy(xrad_atlas *atlas);
+XRAD_API xrad_status xrad_atlas_create(const xrad_scene *scene, xrad_atlas *atlas, xrad_error *err);
+XRAD_API void xrad_atlas_destroy(xrad_atlas *atlas);
 
 /* ------------------------------------------------------- reference solver */
 
@@ -324,21 +392,31 @@ typedef struct xrad_reference_stats {
 
 /* Solves B = E + rho F B for all elements; writes B into `atlas` (created
  * with xrad_atlas_create). `stats` may be NULL. */
-xrad_status xrad_reference_solve(const xrad_scene *scene, const xrad_reference_desc *desc,
-                                 xrad_atlas *atlas, xrad_reference_stats *stats,
-                                 xrad_error *err);
+XRAD_API xrad_status xrad_reference_solve(const xrad_scene *scene, const xrad_reference_desc *desc,
+                                          xrad_atlas *atlas, xrad_reference_stats *stats,
+                                          xrad_error *err);
 
 /* ------------------------------------------------------------ GPU context */
 
 typedef struct xrad_context xrad_context;
 
+/* Where a context's messages go: validation messages, warnings of the
+ * solvers and of cleanup. Called from whichever thread uses the context
+ * (the scheduler's worker too), so it must be thread-safe. */
+typedef enum xrad_log_level {
+    XRAD_LOG_ERROR,
+    XRAD_LOG_WARNING,
+    XRAD_LOG_INFO,
+} xrad_log_level;
+typedef void (*xrad_log_fn)(void *user, xrad_log_level level, const char *message);
+
 typedef struct xrad_context_desc {
-    /* Substring of the device name to use; NULL: $XRAD_DEVICE, else the
+    /* Substring of the device name to use (case-insensitive); NULL: the
      * first discrete or integrated GPU, else the first device (lavapipe). */
     const char *device;
-    /* Enable VK_LAYER_KHRONOS_validation: 0 off unless $XRAD_VALIDATION=1,
-     * 1 on. Messages are counted (xrad_context_validation_messages) and
-     * printed to stderr. Missing layer with validation on is an error. */
+    /* Enable VK_LAYER_KHRONOS_validation: 1 on, 0 off. Messages are
+     * counted (xrad_context_validation_messages) and logged as errors or
+     * warnings. Missing layer with validation on is an error. */
     int validation;
     /* Presentation to a window (xrad view, or an application's own):
      * instance extensions to enable besides xrad's, e.g. what
@@ -348,14 +426,31 @@ typedef struct xrad_context_desc {
     /* 1: enable VK_KHR_swapchain on the device; a device without it is an
      * error (XRAD_ERROR_SYSTEM). */
     int present;
+    /* MiB of device memory xrad may hold at once (a failed allocation past
+     * it is XRAD_ERROR_SYSTEM, as a full device would be); 0: no limit of
+     * its own. */
+    double memory_limit_mib;
+    /* Testing: make the Nth call of a Vulkan function fail,
+     * "vkQueueSubmit:2:VK_ERROR_DEVICE_LOST"; NULL: none. */
+    const char *fault;
+    /* NULL: messages go to stderr as "xrad: MESSAGE". */
+    xrad_log_fn log;
+    void *log_user;
 } xrad_context_desc;
 
-xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **out,
-                                xrad_error *err);
-void xrad_context_destroy(xrad_context **ctx);
+/* The environment the command-line tools honour, for an application that
+ * wants the same: fills what `desc` leaves unset from XRAD_DEVICE,
+ * XRAD_VALIDATION=1, XRAD_GPU_MEMORY_MIB and XRAD_FAULT. The library reads
+ * no environment variable otherwise. XRAD_ERROR_INPUT names a malformed
+ * variable. */
+XRAD_API xrad_status xrad_context_desc_from_env(xrad_context_desc *desc, xrad_error *err);
+
+XRAD_API xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **out,
+                                         xrad_error *err);
+XRAD_API void xrad_context_destroy(xrad_context **ctx);
 
 /* Validation messages of severity warning or error seen so far. */
-uint32_t xrad_context_validation_messages(const xrad_context *ctx);
+XRAD_API uint32_t xrad_context_validation_messages(const xrad_context *ctx);
 
 #define XRAD_MEMORY_CATEGORIES 8
 
@@ -372,11 +467,11 @@ typedef struct xrad_memory_stats {
     uint64_t device_bytes; /* VkDeviceMemory held, all heaps */
 } xrad_memory_stats;
 
-void xrad_context_get_memory(xrad_context *ctx, xrad_memory_stats *out);
-void xrad_context_reset_memory_peak(xrad_context *ctx);
+XRAD_API void xrad_context_get_memory(xrad_context *ctx, xrad_memory_stats *out);
+XRAD_API void xrad_context_reset_memory_peak(xrad_context *ctx);
 
 /* The name of the chosen device. */
-const char *xrad_context_device_name(const xrad_context *ctx);
+XRAD_API const char *xrad_context_device_name(const xrad_context *ctx);
 
 typedef struct xrad_device_info {
     char name[256];
@@ -386,8 +481,8 @@ typedef struct xrad_device_info {
 } xrad_device_info;
 
 /* Calls `fn` once per Vulkan physical device, in enumeration order. */
-xrad_status xrad_devices_list(void (*fn)(void *user, const xrad_device_info *info),
-                              void *user, xrad_error *err);
+XRAD_API xrad_status xrad_devices_list(void (*fn)(void *user, const xrad_device_info *info),
+                                       void *user, xrad_error *err);
 
 /* ---------------------------------------------------------------- solvers */
 
@@ -399,9 +494,9 @@ typedef enum xrad_method {
 } xrad_method;
 
 /* "gather", "progressive", "incremental", "cross"; NULL for an unknown method. */
-const char *xrad_method_name(xrad_method method);
+XRAD_API const char *xrad_method_name(xrad_method method);
 /* The inverse; 0 for an unknown name. */
-xrad_method xrad_method_from_name(const char *name);
+XRAD_API xrad_method xrad_method_from_name(const char *name);
 
 /* GPU solver settings. Zero means default in every field. */
 typedef struct xrad_solver_desc {
@@ -544,31 +639,31 @@ typedef struct xrad_setting_info {
 } xrad_setting_info;
 
 /* The settings, in a fixed order; NULL past the last. */
-const xrad_setting_info *xrad_setting_get(uint32_t index);
-uint32_t xrad_setting_count(void);
+XRAD_API const xrad_setting_info *xrad_setting_get(uint32_t index);
+XRAD_API uint32_t xrad_setting_count(void);
 
 /* Sets setting `name` from text ("128", "1e-3", "exact"). XRAD_ERROR_INPUT
  * naming the setting for an unknown name or a value out of its range. */
-xrad_status xrad_quality_set(xrad_quality *q, const char *name, const char *value,
-                             xrad_error *err);
+XRAD_API xrad_status xrad_quality_set(xrad_quality *q, const char *name, const char *value,
+                                      xrad_error *err);
 
 /* The setting's value as text, defaults filled in ("64", "neighbours"). */
-xrad_status xrad_quality_format(const xrad_quality *q, const char *name, char *buf, size_t size,
-                                xrad_error *err);
+XRAD_API xrad_status xrad_quality_format(const xrad_quality *q, const char *name, char *buf,
+                                         size_t size, xrad_error *err);
 
 /* Overwrites every setting with preset `name`: "draft", "interactive",
  * "high" or "reference" (README "Quality" lists their values). */
-xrad_status xrad_quality_preset(xrad_quality *q, const char *name, xrad_error *err);
+XRAD_API xrad_status xrad_quality_preset(xrad_quality *q, const char *name, xrad_error *err);
 
 /* "draft, interactive, high, reference" */
-const char *xrad_quality_preset_list(void);
+XRAD_API const char *xrad_quality_preset_list(void);
 
 /* Fills the defaults and checks every range, as xrad_solver_create does. */
-xrad_status xrad_quality_resolve(xrad_quality *q, xrad_error *err);
+XRAD_API xrad_status xrad_quality_resolve(xrad_quality *q, xrad_error *err);
 
 /* The scene file's "quality" object (its preset, then its settings),
  * applied over q. */
-void xrad_scene_get_quality(const xrad_scene *scene, xrad_quality *q);
+XRAD_API void xrad_scene_get_quality(const xrad_scene *scene, xrad_quality *q);
 
 #define XRAD_MAX_PASSES 16
 
@@ -604,14 +699,14 @@ typedef struct xrad_solver_stats {
 
 typedef struct xrad_solver xrad_solver;
 
-xrad_status xrad_solver_create(xrad_context *ctx, const xrad_scene *scene,
-                               const xrad_solver_desc *desc, xrad_solver **out,
-                               xrad_error *err);
+XRAD_API xrad_status xrad_solver_create(xrad_context *ctx, const xrad_scene *scene,
+                                        const xrad_solver_desc *desc, xrad_solver **out,
+                                        xrad_error *err);
 /* Accepts NULL and *solver == NULL; sets *solver to NULL. */
-void xrad_solver_destroy(xrad_solver **solver);
+XRAD_API void xrad_solver_destroy(xrad_solver **solver);
 
 /* Restarts from B = E and solves to the desc's threshold. */
-xrad_status xrad_solver_solve(xrad_solver *solver, xrad_error *err);
+XRAD_API xrad_status xrad_solver_solve(xrad_solver *solver, xrad_error *err);
 
 /* One frame: poses dynamic objects at scene time `time` (s) and updates the
  * solution in hand to that pose. incremental redistributes from the
@@ -621,17 +716,17 @@ xrad_status xrad_solver_solve(xrad_solver *solver, xrad_error *err);
  * (desc.frame_shots). The first call after create, without a solution,
  * solves instead; gather and progressive solve anew at the new pose. The
  * stats describe this frame. */
-xrad_status xrad_solver_advance(xrad_solver *solver, double time, xrad_error *err);
+XRAD_API xrad_status xrad_solver_advance(xrad_solver *solver, double time, xrad_error *err);
 
 /* Poses dynamic objects at scene time `time` (s) for the following solves;
  * the solution in hand is kept until the next xrad_solver_solve, but no
  * longer counts as a solution at the pose (the next advance solves anew). */
-xrad_status xrad_solver_set_time(xrad_solver *solver, double time, xrad_error *err);
+XRAD_API xrad_status xrad_solver_set_time(xrad_solver *solver, double time, xrad_error *err);
 
 /* The current solution B in the scene's atlas layout. */
-xrad_status xrad_solver_read(xrad_solver *solver, xrad_atlas *atlas, xrad_error *err);
+XRAD_API xrad_status xrad_solver_read(xrad_solver *solver, xrad_atlas *atlas, xrad_error *err);
 
-void xrad_solver_get_stats(const xrad_solver *solver, xrad_solver_stats *stats);
+XRAD_API void xrad_solver_get_stats(const xrad_solver *solver, xrad_solver_stats *stats);
 
 /* ---------------------------------------------------------------- display */
 
@@ -645,20 +740,20 @@ typedef struct xrad_view_desc {
  * returns the linear image: width x height RGBA float, row 0 at the top,
  * pixel value = B (W/m^2) of the visible surface, 0 where no surface is.
  * `*rgba` is malloc'd; free() it. */
-xrad_status xrad_render_view(xrad_context *ctx, const xrad_scene *scene,
-                             const xrad_atlas *atlas, const xrad_view_desc *desc,
-                             float **rgba, uint32_t *width, uint32_t *height,
-                             xrad_error *err);
+XRAD_API xrad_status xrad_render_view(xrad_context *ctx, const xrad_scene *scene,
+                                      const xrad_atlas *atlas, const xrad_view_desc *desc,
+                                      float **rgba, uint32_t *width, uint32_t *height,
+                                      xrad_error *err);
 
 /* ------------------------------------------------------------------ images */
 
 /* Linear 32-bit float RGBA OpenEXR (ZIP compressed). */
-xrad_status xrad_image_write_exr(const char *path, const float *rgba, uint32_t width,
-                                 uint32_t height, xrad_error *err);
+XRAD_API xrad_status xrad_image_write_exr(const char *path, const float *rgba, uint32_t width,
+                                          uint32_t height, xrad_error *err);
 /* Reads the R, G, B channels of a scanline OpenEXR (half or float) into
  * float RGBA with alpha 1; *rgba is malloc'd. */
-xrad_status xrad_image_read_exr(const char *path, float **rgba, uint32_t *width,
-                                uint32_t *height, xrad_error *err);
+XRAD_API xrad_status xrad_image_read_exr(const char *path, float **rgba, uint32_t *width,
+                                         uint32_t *height, xrad_error *err);
 
 /* xrad_image_write_exr with a fifth float channel `name` beside R, G, B, A:
  * `channel` holds width x height floats, row 0 at the top. xrad render
@@ -666,38 +761,39 @@ xrad_status xrad_image_read_exr(const char *path, float **rgba, uint32_t *width,
  * surface (xrad_image_compare leaves those pixels out). `name`: 1 to 31
  * printable characters, not R, G, B or A. channel NULL: the file
  * xrad_image_write_exr writes. */
-xrad_status xrad_image_write_exr_channel(const char *path, const float *rgba, const char *name,
-                                         const float *channel, uint32_t width, uint32_t height,
-                                         xrad_error *err);
+XRAD_API xrad_status xrad_image_write_exr_channel(const char *path, const float *rgba,
+                                                  const char *name, const float *channel,
+                                                  uint32_t width, uint32_t height, xrad_error *err);
 /* Reads channel `name` ("emitter", or "A" for the coverage xrad_image_read_exr
  * does not read) of a scanline OpenEXR (half or float, full resolution) into
  * width x height floats; *channel is malloc'd. A file without that channel
  * (an EXR written before it existed, or by another tool) is not an error:
  * XRAD_OK with *channel NULL; *width and *height are set either way. */
-xrad_status xrad_image_read_exr_channel(const char *path, const char *name, float **channel,
-                                        uint32_t *width, uint32_t *height, xrad_error *err);
+XRAD_API xrad_status xrad_image_read_exr_channel(const char *path, const char *name,
+                                                 float **channel, uint32_t *width, uint32_t *height,
+                                                 xrad_error *err);
 
 /* 8-bit sRGB PNG of exposure * value, clamped (tone mapping: exposure only,
  * documented in README). exposure <= 0: automatic, see
  * xrad_image_auto_exposure. */
-xrad_status xrad_image_write_png(const char *path, const float *rgba, uint32_t width,
-                                 uint32_t height, double exposure, xrad_error *err);
+XRAD_API xrad_status xrad_image_write_png(const char *path, const float *rgba, uint32_t width,
+                                          uint32_t height, double exposure, xrad_error *err);
 
 /* Reads an 8-bit PNG (as xrad_image_write_png writes) into float RGBA:
  * sRGB decoded to linear values in [0, 1], alpha 1; *rgba is malloc'd.
  * Comparing two PNGs of one exposure compares exposure x B where B is not
  * clipped. */
-xrad_status xrad_image_read_png(const char *path, float **rgba, uint32_t *width,
-                                uint32_t *height, xrad_error *err);
+XRAD_API xrad_status xrad_image_read_png(const char *path, float **rgba, uint32_t *width,
+                                         uint32_t *height, xrad_error *err);
 
 /* The exposure that maps the 95th percentile luminance of the non-zero
  * pixels to 0.8; 1 for an all-zero image. */
-double xrad_image_auto_exposure(const float *rgba, uint32_t width, uint32_t height);
+XRAD_API double xrad_image_auto_exposure(const float *rgba, uint32_t width, uint32_t height);
 
 /* NRMSE of a against b: RMS over all pixels and RGB channels of (a - b),
  * divided by (max - min) of b's RGB values. Returns a negative value when b
  * is constant. */
-double xrad_image_nrmse(const float *a, const float *b, uint32_t width, uint32_t height);
+XRAD_API double xrad_image_nrmse(const float *a, const float *b, uint32_t width, uint32_t height);
 
 /* ----------------------------------------------------------------- metrics */
 
@@ -717,9 +813,9 @@ typedef struct xrad_image_metrics {
  * channel); those pixels are not counted. Background pixels (b's alpha 0)
  * are never counted. XRAD_ERROR_INPUT when no pixel is counted or b is zero
  * over them. */
-xrad_status xrad_image_compare(const float *a, const float *b, const float *emitter,
-                               uint32_t width, uint32_t height, xrad_image_metrics *out,
-                               xrad_error *err);
+XRAD_API xrad_status xrad_image_compare(const float *a, const float *b, const float *emitter,
+                                        uint32_t width, uint32_t height, xrad_image_metrics *out,
+                                        xrad_error *err);
 
 /* Element-space errors of a solution against a reference solution of the
  * same scene (atlases of its layout; no camera). Emitting surfaces and
@@ -740,9 +836,9 @@ typedef struct xrad_element_metrics {
 /* `surface_ratio` (may be NULL): info.surfaces doubles, each surface's
  * ratio (1 for surfaces not counted). XRAD_ERROR_INPUT for atlases of
  * another size or a scene without a non-emitting element. */
-xrad_status xrad_atlas_compare(const xrad_scene *scene, const xrad_atlas *a,
-                               const xrad_atlas *b, xrad_element_metrics *out,
-                               double *surface_ratio, xrad_error *err);
+XRAD_API xrad_status xrad_atlas_compare(const xrad_scene *scene, const xrad_atlas *a,
+                                        const xrad_atlas *b, xrad_element_metrics *out,
+                                        double *surface_ratio, xrad_error *err);
 
 #ifdef __cplusplus
 }

@@ -181,3 +181,10 @@ xrad_status cli_check_writable(const char *path, xrad_error *err)
         remove(path);
     return XRAD_OK;
 }
+
+xrad_status cli_context_create(xrad_context_desc desc, xrad_context **out, xrad_error *err)
+{
+    *out = NULL;
+    xrad_status st = xrad_context_desc_from_env(&desc, err);
+    return st ? st : xrad_context_create(&desc, out, err);
+}

@@ -57,6 +57,11 @@ xrad_status cli_fail(xrad_error *err, xrad_status status, const char *fmt, ...)
 #endif
     ;
 
+/* xrad_context_create of `desc` with the XRAD_* environment applied to
+ * what it leaves unset (xrad_context_desc_from_env): every tool's
+ * context. */
+xrad_status cli_context_create(xrad_context_desc desc, xrad_context **out, xrad_error *err);
+
 double cli_now(void);
 const char *cli_basename_noext(const char *path, char *buf, size_t n);
 bool cli_has_ext(const char *path, const char *ext);

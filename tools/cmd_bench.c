@@ -537,7 +537,7 @@ int cmd_bench(int argc, char **argv)
         return rc < 0 ? 0 : rc;
     xrad_error err = {0};
     xrad_context *ctx = NULL;
-    if (xrad_context_create(&(xrad_context_desc){.device = o.device}, &ctx, &err))
+    if (cli_context_create((xrad_context_desc){.device = o.device}, &ctx, &err))
         return cli_report(&err);
     cJSON *out = cJSON_CreateObject();
     cJSON *rows = cJSON_AddArrayToObject(out, "rows");

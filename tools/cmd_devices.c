@@ -41,7 +41,7 @@ int cmd_devices(int argc, char **argv)
     xrad_error err = {0};
     xrad_context *ctx = NULL;
     char chosen[256] = "";
-    if (xrad_context_create(&(xrad_context_desc){.device = device}, &ctx, &err) == XRAD_OK) {
+    if (cli_context_create((xrad_context_desc){.device = device}, &ctx, &err) == XRAD_OK) {
         snprintf(chosen, sizeof(chosen), "%s", xrad_context_device_name(ctx));
         xrad_context_destroy(&ctx);
     } else {

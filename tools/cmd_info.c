@@ -29,7 +29,7 @@ static int gpu_memory(const xrad_scene *scene, const char *method, const char *d
 {
     xrad_error err = {0};
     xrad_context *ctx = NULL;
-    if (xrad_context_create(&(xrad_context_desc){.device = device}, &ctx, &err)) {
+    if (cli_context_create((xrad_context_desc){.device = device}, &ctx, &err)) {
         printf("GPU memory  unavailable: %s\n", err.message);
         return 0;
     }

@@ -220,7 +220,7 @@ int cmd_render(int argc, char **argv)
     double t_load = cli_now();
 
     /* The device first: a missing GPU is reported before a long solve. */
-    if (xrad_context_create(&(xrad_context_desc){.device = o.device}, &ctx, &err) ||
+    if (cli_context_create((xrad_context_desc){.device = o.device}, &ctx, &err) ||
         xrad_atlas_create(scene, &atlas, &err))
         goto fail;
     double t_ctx = cli_now();

@@ -512,7 +512,7 @@ int cmd_view(int argc, char **argv)
         .instance_extension_count = ext_count,
         .present = 1,
     };
-    if (xrad_context_create(&cd, &ctx, &err)) {
+    if (cli_context_create(cd, &ctx, &err)) {
         rc = cli_report(&err);
         goto done;
     }

@@ -5,9 +5,6 @@
 #include <string.h>
 
 #include "cli.h"
-/* The emitter mask needs each element's material and texel, which the
- * public API does not give (xrad view reads the built scene the same way). */
-#include "scene/scene.h"
 
 /* The option's value as an index into names[0..count-1]; a usage error
  * listing them when it is none. */
@@ -316,10 +313,12 @@ void method_print_passes(const method_result *r, const char *what)
 
 int method_surface_emits(const xrad_scene *scene, uint32_t index)
 {
-    if (index >= scene->surface_count)
+    xrad_surface_info s;
+    xrad_material_info m;
+    if (xrad_scene_get_surface(scene, index, &s, NULL) ||
+        xrad_scene_get_material(scene, s.material, &m, NULL))
         return 0;
-    vec3 e = scene->materials[scene->surfaces[index].material].emission;
-    return e.x > 0 || e.y > 0 || e.z > 0;
+    return m.emission[0] > 0 || m.emission[1] > 0 || m.emission[2] > 0;
 }
 
 xrad_status method_emitter_mask(xrad_context *ctx, const xrad_scene *scene,
@@ -330,12 +329,18 @@ xrad_status method_emitter_mask(xrad_context *ctx, const xrad_scene *scene,
     xrad_status st = xrad_atlas_create(scene, &atlas, err);
     if (st)
         return st;
-    for (uint32_t i = 0; i < scene->element_count; i++) {
-        const element *el = &scene->elements[i];
-        if (!method_surface_emits(scene, el->surface))
+    xrad_scene_info info;
+    xrad_scene_get_info(scene, &info);
+    /* Every texel of an emitter's tile is one of its elements. */
+    for (uint32_t i = 0; i < info.surfaces; i++) {
+        xrad_surface_info sf;
+        if (!method_surface_emits(scene, i) || xrad_scene_get_surface(scene, i, &sf, NULL))
             continue;
-        float *t = atlas.rgba + ((size_t)el->texel_y * atlas.width + el->texel_x) * 4;
-        t[0] = t[1] = t[2] = t[3] = 1;
+        for (uint32_t y = sf.tile_y; y < sf.tile_y + sf.nv; y++)
+            for (uint32_t x = sf.tile_x; x < sf.tile_x + sf.nu; x++) {
+                float *t = atlas.rgba + ((size_t)y * atlas.width + x) * 4;
+                t[0] = t[1] = t[2] = t[3] = 1;
+            }
     }
     float *img = NULL;
     uint32_t w = 0, h = 0;

@@ -4,7 +4,7 @@
 set -eu
 cd "$(dirname "$0")/.."
 
-packages="meson ninja-build pkg-config gcc python3 glslang-tools libvulkan-dev \
+packages="meson ninja-build pkg-config gcc g++ python3 glslang-tools libvulkan-dev \
 mesa-vulkan-drivers vulkan-validationlayers libglfw3-dev libopenexr-dev libcjson-dev \
 libpng-dev libassimp-dev assimp-testmodels libembree-dev xvfb xauth"
 

@@ -21,7 +21,8 @@ static const struct {
 
 static void usage(FILE *f)
 {
-    fprintf(f, "usage: xrad COMMAND [OPTIONS]\n\n"
+    fprintf(f, "usage: xrad COMMAND [OPTIONS]\n"
+               "       xrad --version\n\n"
                "xrad computes diffuse global illumination by radiosity on Vulkan.\n\n"
                "commands:\n");
     for (size_t i = 0; i < sizeof(commands) / sizeof(commands[0]); i++)
@@ -29,7 +30,9 @@ static void usage(FILE *f)
     fprintf(f, "\n'xrad COMMAND --help' describes a command's options.\n"
                "Exit status: 0 ok, 1 bad input, 2 system or GPU error.\n"
                "Environment: XRAD_DEVICE (device name substring), XRAD_VALIDATION=1 "
-               "(Khronos validation layer).\n");
+               "(Khronos validation layer),\n"
+               "  XRAD_GPU_MEMORY_MIB (a device memory limit), XRAD_FAULT (testing: "
+               "vkFunction:N:VK_ERROR_NAME).\n");
 }
 
 int main(int argc, char **argv)
@@ -39,6 +42,14 @@ int main(int argc, char **argv)
         return 1;
     }
     const char *name = argv[1];
+    if (!strcmp(name, "--version")) {
+        /* The headers' and the library's: they differ only when a shared
+         * libxrad of another build is loaded. */
+        printf("xrad %s\n", XRAD_VERSION);
+        if (strcmp(xrad_version(), XRAD_VERSION))
+            printf("libxrad %s\n", xrad_version());
+        return 0;
+    }
     if (!strcmp(name, "--help") || !strcmp(name, "-h") || !strcmp(name, "help")) {
         if (argc > 2 && strcmp(name, "help") == 0) {
             char help[] = "--help";

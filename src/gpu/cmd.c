@@ -181,8 +181,9 @@ void gpu_cmd_destroy(struct xrad_context *ctx, gpu_cmd *c)
         VkResult r = vkWaitForFences(ctx->device, 1, &c->fence, VK_TRUE, ctx->wait_timeout_ns);
         if (r == VK_TIMEOUT) {
             atomic_store(&ctx->lost, true);
-            fprintf(stderr, "xrad: a GPU submission did not finish within %.0f s; its command "
-                            "buffer is left to the context's destruction\n",
+            gpu_log(ctx, XRAD_LOG_ERROR,
+                    "a GPU submission did not finish within %.0f s; its command buffer is left "
+                    "to the context's destruction",
                     (double)ctx->wait_timeout_ns * 1e-9);
             memset(c, 0, sizeof(*c));
             return;

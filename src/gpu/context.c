@@ -2,6 +2,7 @@
 
 #include <ctype.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -43,8 +44,8 @@ static VKAPI_ATTR VkBool32 VKAPI_CALL on_message(VkDebugUtilsMessageSeverityFlag
     if (ctx)
         atomic_fetch_add(&ctx->validation_messages, 1);
     atomic_fetch_add(&validation_total, 1);
-    fprintf(stderr, "xrad: vulkan validation %s: %s\n", error ? "error" : "warning",
-            data && data->pMessage ? data->pMessage : "(no message)");
+    gpu_log(ctx, error ? XRAD_LOG_ERROR : XRAD_LOG_WARNING, "vulkan validation %s: %s",
+            error ? "error" : "warning", data && data->pMessage ? data->pMessage : "(no message)");
     return VK_FALSE;
 }
 
@@ -486,19 +487,23 @@ xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **ou
     ctx->present = desc->present == 1;
     ctx->wait_timeout_ns = DEFAULT_WAIT_TIMEOUT_NS;
     xrad_status s;
-    const char *fault = getenv("XRAD_FAULT");
-    if (fault && *fault && (s = gpu_fault_parse(fault, &ctx->fault, err))) {
+    if (desc->fault && *desc->fault && (s = gpu_fault_parse(desc->fault, &ctx->fault, err))) {
+        pthread_mutex_destroy(&ctx->queue_lock);
         free(ctx);
         return s;
     }
-    const char *env_validation = getenv("XRAD_VALIDATION");
-    bool validation = desc->validation == 1 || (env_validation && !strcmp(env_validation, "1"));
-    const char *wanted = desc->device;
-    if (!wanted || !*wanted) {
-        wanted = getenv("XRAD_DEVICE");
-        if (wanted && !*wanted)
-            wanted = NULL;
+    if (!(desc->memory_limit_mib >= 0 && desc->memory_limit_mib < 1e9)) {
+        pthread_mutex_destroy(&ctx->queue_lock);
+        free(ctx);
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "context: memory_limit_mib %g is not a size in MiB in [0, 1e9)",
+                         desc->memory_limit_mib);
     }
+    ctx->memory_limit = (uint64_t)(desc->memory_limit_mib * 1048576.0);
+    ctx->log = desc->log;
+    ctx->log_user = desc->log_user;
+    bool validation = desc->validation == 1;
+    const char *wanted = desc->device && *desc->device ? desc->device : NULL;
     if ((s = create_instance(ctx, validation, desc, err)) || (s = choose_device(ctx, wanted, err)) ||
         (s = create_device(ctx, desc->present == 1, err))) {
         xrad_context_destroy(&ctx);
@@ -522,7 +527,7 @@ void xrad_context_destroy(xrad_context **pctx)
             gpu_memory_stats st;
             gpu_memory_get_stats(ctx, &st);
             if (st.allocations)
-                fprintf(stderr, "xrad: %u GPU memory allocations were not freed\n",
+                gpu_log(ctx, XRAD_LOG_WARNING, "%u GPU memory allocations were not freed",
                         st.allocations);
         }
         gpu_memory_destroy(ctx, &ctx->mem);
@@ -538,6 +543,51 @@ void xrad_context_destroy(xrad_context **pctx)
     pthread_mutex_destroy(&ctx->queue_lock);
     free(ctx);
     *pctx = NULL;
+}
+
+void gpu_log(const struct xrad_context *ctx, xrad_log_level level, const char *fmt, ...)
+{
+    char msg[2048];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof(msg), fmt, ap);
+    va_end(ap);
+    if (ctx && ctx->log)
+        ctx->log(ctx->log_user, level, msg);
+    else
+        fprintf(stderr, "xrad: %s\n", msg);
+}
+
+/* Reads variable `name`: NULL when unset or empty. */
+static const char *env(const char *name)
+{
+    const char *v = getenv(name);
+    return v && *v ? v : NULL;
+}
+
+xrad_status xrad_context_desc_from_env(xrad_context_desc *desc, xrad_error *err)
+{
+    const char *v;
+    if (!desc->device)
+        desc->device = env("XRAD_DEVICE");
+    if (!desc->validation && (v = env("XRAD_VALIDATION")))
+        desc->validation = !strcmp(v, "1");
+    if (!desc->memory_limit_mib && (v = env("XRAD_GPU_MEMORY_MIB"))) {
+        char *end;
+        double mib = strtod(v, &end);
+        if (*end || !(mib > 0 && mib < 1e9))
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "XRAD_GPU_MEMORY_MIB: '%s' is not a size in MiB in (0, 1e9)", v);
+        desc->memory_limit_mib = mib;
+    }
+    if (!desc->fault && (v = env("XRAD_FAULT"))) {
+        gpu_fault f;
+        xrad_error e;
+        if (gpu_fault_parse(v, &f, &e))
+            return xrad_fail(err, XRAD_ERROR_INPUT, "XRAD_FAULT: %s", e.message);
+        desc->fault = v;
+    }
+    return XRAD_OK;
 }
 
 xrad_status gpu_thread_pool(struct xrad_context *ctx, VkCommandPool *out, xrad_error *err)

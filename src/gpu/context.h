@@ -83,7 +83,10 @@ struct xrad_context {
     uint64_t wait_timeout_ns;
 
     struct gpu_memory *mem;
+    uint64_t memory_limit; /* bytes, xrad_context_desc.memory_limit_mib; 0: none */
     gpu_fault fault;
+    xrad_log_fn log; /* xrad_context_desc.log; NULL: stderr */
+    void *log_user;
     /* Set by VK_ERROR_DEVICE_LOST (real or injected) and by wait timeouts:
      * later submissions refuse, and destroy does not wait on the device.
      * Atomic: the scheduler's worker sets it, the display thread reads it. */
@@ -94,6 +97,11 @@ struct xrad_context {
  * including those delivered while a context was being destroyed: the tests'
  * leak check. */
 uint32_t gpu_validation_messages_total(void);
+
+/* A message to the context's log (xrad_context_desc.log), or to stderr
+ * as "xrad: MESSAGE" without one or without a context. */
+void gpu_log(const struct xrad_context *ctx, xrad_log_level level, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
 
 /* The calling thread's command pool, created on its first use; freed with
  * the context. */

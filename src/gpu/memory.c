@@ -160,7 +160,7 @@ struct gpu_memory {
     uint64_t total_bytes, total_peak;
     uint64_t heap_bytes[VK_MAX_MEMORY_HEAPS];
     uint32_t block_count, allocations;
-    /* $XRAD_GPU_MEMORY_MIB: a smaller budget than the device's, so that
+    /* xrad_context_desc.memory_limit_mib: a smaller budget than the device's, so that
      * "does not fit" can be tried on any machine. 0: none. */
     uint64_t budget_limit;
     /* A redistribution thread and a display thread allocate from one
@@ -180,17 +180,7 @@ xrad_status gpu_memory_create(struct xrad_context *ctx, gpu_memory **out, xrad_e
     gpu_memory *m = calloc(1, sizeof(*m));
     if (!m)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (memory allocator)");
-    const char *limit = getenv("XRAD_GPU_MEMORY_MIB");
-    if (limit && *limit) {
-        char *end;
-        double mib = strtod(limit, &end);
-        if (*end || !(mib > 0 && mib < 1e9)) {
-            free(m);
-            return xrad_fail(err, XRAD_ERROR_INPUT,
-                             "XRAD_GPU_MEMORY_MIB: '%s' is not a size in MiB in (0, 1e9)", limit);
-        }
-        m->budget_limit = (uint64_t)(mib * 1048576.0);
-    }
+    m->budget_limit = ctx->memory_limit;
     if (pthread_mutex_init(&m->lock, NULL) != 0) {
         free(m);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "memory allocator: pthread_mutex_init failed");

@@ -115,7 +115,7 @@ xrad_status gpu_fault_parse(const char *spec, gpu_fault *out, xrad_error *err)
     const char *c2 = c1 ? strchr(c1 + 1, ':') : NULL;
     if (!c1 || !c2 || c1 == spec || (size_t)(c1 - spec) >= sizeof(out->function))
         return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "XRAD_FAULT=%s: expected <vkFunction>:<nth call>:<VK_ERROR_NAME>", spec);
+                         "fault '%s': expected <vkFunction>:<nth call>:<VK_ERROR_NAME>", spec);
     memcpy(out->function, spec, (size_t)(c1 - spec));
     out->function[c1 - spec] = '\0';
     char *end;
@@ -123,11 +123,11 @@ xrad_status gpu_fault_parse(const char *spec, gpu_fault *out, xrad_error *err)
     unsigned long nth = strtoul(c1 + 1, &end, 10);
     if (end != c2 || errno || nth == 0 || nth > UINT32_MAX)
         return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "XRAD_FAULT=%s: the call number must be an integer >= 1", spec);
+                         "fault '%s': the call number must be an integer >= 1", spec);
     out->nth = (uint32_t)nth;
     if (!gpu_result_parse(c2 + 1, &out->result) || out->result == VK_SUCCESS)
         return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "XRAD_FAULT=%s: unknown or non-error result '%s' (e.g. "
+                         "fault '%s': unknown or non-error result '%s' (e.g. "
                          "VK_ERROR_DEVICE_LOST, VK_ERROR_OUT_OF_DEVICE_MEMORY)",
                          spec, c2 + 1);
     return XRAD_OK;

@@ -392,7 +392,7 @@ xrad_status hemicube_create_desc(struct xrad_context *ctx, const hemicube_desc *
                      results[1].wrong + results[1].edge, results[1].pixels);
 }
 
-xrad_status hemicube_create(struct xrad_context *ctx, const gpu_scene *gs, uint32_t res,
+xrad_status hemicube_create(struct xrad_context *ctx, double diameter, uint32_t res,
                             uint32_t max_hemicubes, hemicube_pass **out, xrad_error *err)
 {
     hemicube_desc d = {
@@ -401,7 +401,7 @@ xrad_status hemicube_create(struct xrad_context *ctx, const gpu_scene *gs, uint3
         .max_hemicubes = max_hemicubes,
         .msaa = 1,
         .path = HEMICUBE_PATH_AUTO,
-        .diameter = gs->diameter > 0 ? gs->diameter : 1.0,
+        .diameter = diameter > 0 ? diameter : 1.0,
     };
     return hemicube_create_desc(ctx, &d, out, err);
 }
@@ -611,14 +611,15 @@ void hemicube_record(hemicube_pass *p, VkCommandBuffer cmd, const hemicube_draw 
                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_TRANSFER_READ_BIT);
 }
 
-void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
+void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_mesh *mesh,
+                         uint32_t index_count,
                          const gpu_buffer *frames, const gpu_buffer *indirect,
                          VkDeviceSize indirect_offset, const gpu_buffer *commands,
                          uint32_t count)
 {
     hemicube_draw d = {
-        .mesh = hemicube_scene_mesh(gs),
-        .index_count = gs->index_count,
+        .mesh = *mesh,
+        .index_count = index_count,
         .frames = frames,
         .indirect = indirect,
         .indirect_offset = indirect_offset,

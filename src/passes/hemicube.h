@@ -51,7 +51,6 @@
 
 #include "gpu/buffer.h"
 #include "gpu/image.h"
-#include "solvers/gpu_scene.h"
 #include "xrad.h"
 
 struct xrad_context;
@@ -125,8 +124,9 @@ typedef struct hemicube_pass hemicube_pass;
 xrad_status hemicube_create_desc(struct xrad_context *ctx, const hemicube_desc *desc,
                                  hemicube_pass **out, xrad_error *err);
 
-/* The ID variant for a scene on the GPU, path AUTO. */
-xrad_status hemicube_create(struct xrad_context *ctx, const gpu_scene *gs, uint32_t res,
+/* The ID variant, path AUTO, for a scene of `diameter` (its bounds'
+ * diagonal: the depth range; <= 0 means 1). */
+xrad_status hemicube_create(struct xrad_context *ctx, double diameter, uint32_t res,
                             uint32_t max_hemicubes, hemicube_pass **out, xrad_error *err);
 
 /* Accepts NULL; sets *pass to NULL. The GPU must be done with it. */
@@ -165,13 +165,6 @@ typedef struct hemicube_mesh {
     uint32_t range_count;
 } hemicube_mesh;
 
-/* A scene's, at the pose its vertices hold, by clusters. */
-static inline hemicube_mesh hemicube_scene_mesh(const gpu_scene *gs)
-{
-    return (hemicube_mesh){&gs->vertices, &gs->indices, &gs->triangles, gs->layout.first,
-                           gs->layout.count};
-}
-
 typedef struct hemicube_draw {
     hemicube_mesh mesh;
     uint32_t index_count; /* without commands: indices [0, index_count) (whole triangles; with
@@ -203,11 +196,12 @@ typedef struct hemicube_draw {
  * writes of frames, indirect command and atlas before it. */
 void hemicube_record(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_draw *draw);
 
-/* The ID variant of a scene with the indirect count at `indirect_offset`
- * of `indirect`: what the progressive solver records per shot. With
- * `commands` (else NULL), the cull pass's `count` commands instead of one
- * draw of every triangle. */
-void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const gpu_scene *gs,
+/* The ID variant of `mesh` (indices [0, index_count)) with the indirect
+ * count at `indirect_offset` of `indirect`: what the progressive solver
+ * records per shot. With `commands` (else NULL), the cull pass's `count`
+ * commands instead of one draw of every triangle. */
+void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_mesh *mesh,
+                         uint32_t index_count,
                          const gpu_buffer *frames, const gpu_buffer *indirect,
                          VkDeviceSize indirect_offset, const gpu_buffer *commands,
                          uint32_t count);

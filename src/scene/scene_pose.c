@@ -142,5 +142,58 @@ xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
     info->length_v = v3_len(v3_sub(s->p[3], s->p[0]));
     info->area = s->area;
     info->triangle = s->triangle;
+    info->material = s->material;
+    info->tile_x = s->tile_x;
+    info->tile_y = s->tile_y;
+    /* As the display draws it: a planarised quad's file vertices, so that
+     * it meets its neighbours (scene.h). */
+    for (int k = 0; k < 4; k++) {
+        vec3 p = v3_mad(s->p[k], s->normal, s->planarise_dist[k]);
+        info->corners[k][0] = p.x;
+        info->corners[k][1] = p.y;
+        info->corners[k][2] = p.z;
+    }
+    info->normal[0] = s->normal.x;
+    info->normal[1] = s->normal.y;
+    info->normal[2] = s->normal.z;
+    return XRAD_OK;
+}
+
+xrad_status xrad_scene_get_material(const xrad_scene *scene, uint32_t index,
+                                    xrad_material_info *info, xrad_error *err)
+{
+    memset(info, 0, sizeof(*info));
+    if (!scene || index >= scene->material_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "scene: material %u does not exist (%u materials)", index,
+                         scene ? scene->material_count : 0);
+    const material *m = &scene->materials[index];
+    info->name = m->name;
+    info->albedo[0] = m->albedo.x;
+    info->albedo[1] = m->albedo.y;
+    info->albedo[2] = m->albedo.z;
+    info->emission[0] = m->emission.x;
+    info->emission[1] = m->emission.y;
+    info->emission[2] = m->emission.z;
+    return XRAD_OK;
+}
+
+xrad_status xrad_scene_get_object_pose(const xrad_scene *scene, uint32_t index, double time,
+                                       double matrix[16], xrad_error *err)
+{
+    if (!scene || index >= scene->object_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "scene: object %u does not exist (%u objects)",
+                         index, scene ? scene->object_count : 0);
+    if (!isfinite(time))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "scene: pose time is not finite");
+    xform x = scene_object_pose(scene, index, time);
+    const double t[3] = {x.t.x, x.t.y, x.t.z};
+    for (int c = 0; c < 3; c++) {
+        for (int r = 0; r < 3; r++)
+            matrix[c * 4 + r] = x.r.m[r][c];
+        matrix[c * 4 + 3] = 0;
+        matrix[12 + c] = t[c];
+    }
+    matrix[15] = 1;
     return XRAD_OK;
 }

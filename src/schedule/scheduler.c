@@ -77,9 +77,8 @@ static xrad_status publish(scheduler *s, double time, uint64_t serial, xrad_erro
     gpu_image_barrier(c.cmd, &s->atlas[target], VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                       VK_IMAGE_LAYOUT_GENERAL, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT);
-    atlas_scatter_record(s->scatter[target], c.cmd,
-                         &(atlas_scatter_draw){&s->solver->gs.elements, &s->solver->gs.B,
-                                               s->solver->gs.element_count, &s->atlas[target]});
+    atlas_scatter_draw draw = solver_atlas_scatter(s->solver, &s->atlas[target]);
+    atlas_scatter_record(s->scatter[target], c.cmd, &draw);
     gpu_image_barrier(c.cmd, &s->atlas[target], VK_IMAGE_LAYOUT_GENERAL,
                       VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,

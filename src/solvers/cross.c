@@ -181,7 +181,7 @@ static xrad_status create_lights(xrad_solver *s, cross *c, xrad_error *err)
         (st = gpu_cmd_begin(ctx, &cmd, err)))
         goto done;
     hemicube_record(c->light_ids_c, cmd.cmd,
-                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
                                      .index_count = gs->static_index_count,
                                      .frames = &c->light_frames, .count = L});
     st = solver_submit_wait(s, &cmd, err);
@@ -370,19 +370,19 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.hemicube");
     hemicube_record(c->ids, cmd,
-                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
                                      .index_count = gs->index_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_FRONT), .count = P});
     if (c->L)
         hemicube_record(c->light_ids, cmd,
-                        &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                        &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
                                          .index_count = gs->index_count,
                                          .frames = &c->light_frames, .count = c->L});
     gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.back");
     hemicube_record(c->back, cmd,
-                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
                                      .index_count = gs->static_index_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_BACK), .count = P,
@@ -390,7 +390,7 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.gather");
     hemicube_record(c->gather, cmd,
-                    &(hemicube_draw){.mesh = hemicube_scene_mesh(gs),
+                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
                                      .index_count = gs->index_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_GATHER), .count = P,

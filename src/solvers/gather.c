@@ -207,10 +207,10 @@ static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
      * iterations without a word; say where that may have happened rather
      * than hand back a solution darker than it should be. */
     if (alarms && s->ctx->props.deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU)
-        fprintf(stderr,
-                "xrad: gather: the direct light of %u of %u receivers came near the CPU "
-                "driver's shader loop limit (65,535 iterations) and may be too dark there "
-                "(README \"Accuracy\")\n",
+        gpu_log(s->ctx, XRAD_LOG_WARNING,
+                "gather: the direct light of %u of %u receivers came near the CPU driver's "
+                "shader loop limit (65,535 iterations) and may be too dark there (README "
+                "\"Accuracy\")",
                 alarms, n);
     return XRAD_OK;
 }
@@ -423,7 +423,7 @@ static xrad_status bounce(xrad_solver *s, gather *g, float scale, xrad_error *er
         while (first < end) {
             uint32_t count = end - first < g->batch ? end - first : g->batch;
             hemicube_draw hd = {
-                .mesh = hemicube_scene_mesh(&s->gs),
+                .mesh = gpu_scene_hemicube_mesh(&s->gs),
                 .index_count = s->gs.index_count,
                 .frames = &g->frames,
                 .first = first,

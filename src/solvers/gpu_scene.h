@@ -18,6 +18,7 @@
 
 #include "gpu/buffer.h"
 #include "gpu/image.h"
+#include "passes/hemicube.h"
 #include "scene/scene.h"
 #include "shared.h"
 #include "scene/quad_bvh.h"
@@ -110,6 +111,14 @@ xrad_status gpu_scene_fix_patches(struct xrad_context *ctx, gpu_scene *gs,
  * surfaces (whose light the cross method shoots itself). */
 xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, bool static_only,
                             xrad_error *err);
+
+/* The scene's hemicube triangles, at the pose its vertices hold, by
+ * clusters. */
+static inline hemicube_mesh gpu_scene_hemicube_mesh(const gpu_scene *gs)
+{
+    return (hemicube_mesh){&gs->vertices, &gs->indices, &gs->triangles, gs->layout.first,
+                           gs->layout.count};
+}
 
 /* Reads B back into a host atlas (xrad_atlas_create of the same scene);
  * with `ambient`, plus the ambient term of the unshot radiosity Bu. */

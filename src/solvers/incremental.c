@@ -217,7 +217,7 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
     gpu_cmd c;
     if ((st = gpu_cmd_begin(ctx, &c, err)))
         return st;
-    hemicube_draw none = {.mesh = hemicube_scene_mesh(gs), .frames = &inc->shooters};
+    hemicube_draw none = {.mesh = gpu_scene_hemicube_mesh(gs), .frames = &inc->shooters};
     hemicube_record(inc->old_ids, c.cmd, &none);
     hemicube_record(inc->new_ids, c.cmd, &none);
     st = gpu_cmd_run(ctx, &c, err);
@@ -467,7 +467,7 @@ static void record_chunk(xrad_solver *s, incremental *inc, VkCommandBuffer cmd, 
                          uint32_t first, uint32_t n)
 {
     hemicube_draw d = {
-        .mesh = hemicube_scene_mesh(&s->gs),
+        .mesh = gpu_scene_hemicube_mesh(&s->gs),
         .index_count = s->gs.index_count,
         .frames = &inc->shooters,
         .first = first,

@@ -128,7 +128,7 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
                                     VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                 GPU_MEM_READBACK, GPU_MEM_RADIOSITY, &p->status, err)) ||
         (st = select_create(ctx, gs->surface_count, &p->select, err)) ||
-        (st = hemicube_create(ctx, gs, s->desc.hemicube_res, p->max_shooters, &p->hemicube,
+        (st = hemicube_create(ctx, gs->diameter, s->desc.hemicube_res, p->max_shooters, &p->hemicube,
                               err)) ||
         (st = reconstruct_create(ctx, &p->reconstruct, err)))
         goto fail;
@@ -269,7 +269,8 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
                            VK_PIPELINE_STAGE_DRAW_INDIRECT_BIT,
                            VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
     }
-    hemicube_record_ids(p->hemicube, cmd, &s->gs, &p->shooters, &p->status,
+    hemicube_mesh mesh = gpu_scene_hemicube_mesh(&s->gs);
+    hemicube_record_ids(p->hemicube, cmd, &mesh, s->gs.index_count, &p->shooters, &p->status,
                         offsetof(struct select_status, draw_index_count),
                         p->cull ? &p->commands : NULL, p->cull_params.cluster_count);
     gpu_timer_end(s->timer, cmd);

@@ -7,7 +7,7 @@
 #include "core/error.h"
 #include "gpu/cmd.h"
 #include "gpu/context.h"
-#include "solvers/quality.h"
+#include "scene/quality.h"
 #include "solvers/solver.h"
 
 static const struct {

@@ -10,6 +10,7 @@
 #include <stdbool.h>
 
 #include "gpu/timer.h"
+#include "passes/atlas_scatter.h"
 #include "solvers/gpu_scene.h"
 #include "xrad.h"
 
@@ -57,6 +58,15 @@ static inline bool solver_culls(const struct xrad_solver *s, uint32_t clusters)
     return clusters > 0 &&
            (s->desc.cull == XRAD_CULL_ON ||
             (s->desc.cull != XRAD_CULL_OFF && clusters >= XRAD_CULL_MIN_CLUSTERS));
+}
+
+/* For the layers above (the scheduler): the scatter of the solver's B
+ * into `atlas`, whose readers and writers they order themselves. They use
+ * a solver through this and the public API, never its fields. */
+static inline atlas_scatter_draw solver_atlas_scatter(const struct xrad_solver *s,
+                                                      const gpu_image *atlas)
+{
+    return (atlas_scatter_draw){&s->gs.elements, &s->gs.B, s->gs.element_count, atlas};
 }
 
 /* Host monotonic clock, ms. */

@@ -12,13 +12,17 @@
 #include "harness.h"
 #include "xrad.h"
 
-/* A validated context on the default device; NULL (after a failed CHECK)
- * when none can be made. */
+/* A validated context on the default device, or the one XRAD_DEVICE names
+ * (the XRAD_* environment, as the tools apply it); NULL (after a failed
+ * CHECK) when none can be made. */
 static inline xrad_context *gpu_test_context(void)
 {
     xrad_context *ctx = NULL;
     xrad_error err = {0};
-    xrad_status s = xrad_context_create(&(xrad_context_desc){.validation = 1}, &ctx, &err);
+    xrad_context_desc d = {.validation = 1};
+    xrad_status s = xrad_context_desc_from_env(&d, &err);
+    if (!s)
+        s = xrad_context_create(&d, &ctx, &err);
     CHECK(s == XRAD_OK, "xrad_context_create: %s", err.message);
     return ctx;
 }

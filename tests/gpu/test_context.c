@@ -65,6 +65,15 @@ static void test_devices_and_names(void)
     gpu_test_end(&ctx);
 }
 
+/* xrad_context_create as the tools make it: the XRAD_* environment
+ * applied. */
+static xrad_status create_from_env(xrad_context **ctx, xrad_error *err)
+{
+    xrad_context_desc d = {.validation = 1};
+    xrad_status s = xrad_context_desc_from_env(&d, err);
+    return s ? s : xrad_context_create(&d, ctx, err);
+}
+
 static void test_unknown_device(void)
 {
     xrad_context *ctx = NULL;
@@ -76,12 +85,65 @@ static void test_unknown_device(void)
     CHECK(strstr(err.message, "no-such-device-xyz") && strstr(err.message, "available"),
           "message should name the request and the available devices: %s", err.message);
 
-    /* The same through the environment. */
+    /* The same through the environment, where the caller applies it; the
+     * library itself reads none. */
     setenv("XRAD_DEVICE", "no-such-device-xyz", 1);
     memset(&err, 0, sizeof(err));
-    s = xrad_context_create(&(xrad_context_desc){.validation = 1}, &ctx, &err);
+    s = create_from_env(&ctx, &err);
     CHECK(s == XRAD_ERROR_INPUT, "XRAD_DEVICE unknown: status %d (%s)", (int)s, err.message);
+    s = xrad_context_create(&(xrad_context_desc){.validation = 1}, &ctx, &err);
+    CHECK(s == XRAD_OK, "XRAD_DEVICE read by the library itself: %s", err.message);
+    gpu_test_end(&ctx);
     unsetenv("XRAD_DEVICE");
+    /* A desc's own device wins over the environment. */
+    setenv("XRAD_DEVICE", "no-such-device-xyz", 1);
+    xrad_context_desc d = {.device = "llvmpipe-or-any", .validation = 1};
+    CHECK(xrad_context_desc_from_env(&d, &err) == XRAD_OK && !strcmp(d.device, "llvmpipe-or-any"),
+          "from_env replaced the desc's device: %s", d.device);
+    unsetenv("XRAD_DEVICE");
+    /* A malformed memory limit is named. */
+    setenv("XRAD_GPU_MEMORY_MIB", "lots", 1);
+    d = (xrad_context_desc){0};
+    s = xrad_context_desc_from_env(&d, &err);
+    CHECK(s == XRAD_ERROR_INPUT && strstr(err.message, "XRAD_GPU_MEMORY_MIB") &&
+              strstr(err.message, "lots"),
+          "status %d: %s", (int)s, err.message);
+    unsetenv("XRAD_GPU_MEMORY_MIB");
+    s = xrad_context_create(&(xrad_context_desc){.memory_limit_mib = -1}, &ctx, &err);
+    CHECK(s == XRAD_ERROR_INPUT && strstr(err.message, "memory_limit_mib") && !ctx,
+          "negative memory limit: status %d: %s", (int)s, err.message);
+}
+
+/* Messages go to the context's log callback. */
+typedef struct log_seen {
+    int calls;
+    xrad_log_level level;
+    char text[128];
+} log_seen;
+
+static void on_log(void *user, xrad_log_level level, const char *message)
+{
+    log_seen *seen = user;
+    seen->calls++;
+    seen->level = level;
+    snprintf(seen->text, sizeof(seen->text), "%s", message);
+}
+
+static void test_log(void)
+{
+    log_seen seen = {0};
+    xrad_context *ctx = NULL;
+    xrad_error err = {0};
+    xrad_status s = xrad_context_create(
+        &(xrad_context_desc){.validation = 1, .log = on_log, .log_user = &seen}, &ctx, &err);
+    CHECK(s == XRAD_OK, "context with a log: %s", err.message);
+    if (s)
+        return;
+    gpu_log(ctx, XRAD_LOG_WARNING, "test %d", 42);
+    CHECK(seen.calls == 1 && seen.level == XRAD_LOG_WARNING && !strcmp(seen.text, "test 42"),
+          "log callback: %d calls, level %d, '%s'", seen.calls, (int)seen.level, seen.text);
+    gpu_test_end(&ctx);
+    CHECK(seen.calls == 1, "%d messages logged while the context lived and ended", seen.calls);
 }
 
 static void test_fault_syntax(void)
@@ -103,17 +165,21 @@ static void test_fault_syntax(void)
     CHECK(!strcmp(gpu_call_name("ctx->fn.vkFoo(a, b(c))", name, sizeof(name)), "vkFoo"),
           "call name %s", name);
 
-    /* A malformed XRAD_FAULT is an input error at context creation. */
+    /* A malformed XRAD_FAULT is an input error naming it; the desc's own
+     * fault one naming the spec. */
     setenv("XRAD_FAULT", "garbage", 1);
     xrad_context *ctx = NULL;
     memset(&err, 0, sizeof(err));
-    xrad_status s = xrad_context_create(&(xrad_context_desc){.validation = 1}, &ctx, &err);
+    xrad_status s = create_from_env(&ctx, &err);
     CHECK(s == XRAD_ERROR_INPUT && strstr(err.message, "XRAD_FAULT"), "status %d: %s", (int)s,
           err.message);
+    s = xrad_context_create(&(xrad_context_desc){.fault = "garbage"}, &ctx, &err);
+    CHECK(s == XRAD_ERROR_INPUT && strstr(err.message, "garbage") && !ctx, "status %d: %s",
+          (int)s, err.message);
     /* One in context creation itself is reported as a system error. */
     setenv("XRAD_FAULT", "vkCreateDevice:1:VK_ERROR_INITIALIZATION_FAILED", 1);
     memset(&err, 0, sizeof(err));
-    s = xrad_context_create(&(xrad_context_desc){.validation = 1}, &ctx, &err);
+    s = create_from_env(&ctx, &err);
     CHECK(s == XRAD_ERROR_SYSTEM && strstr(err.message, "vkCreateDevice") &&
               strstr(err.message, "VK_ERROR_INITIALIZATION_FAILED"),
           "status %d: %s", (int)s, err.message);
@@ -128,6 +194,7 @@ int main(void)
     test_devices_and_names();
     test_unknown_device();
     test_fault_syntax();
+    test_log();
     CHECK(gpu_validation_messages_total() == 0, "%u validation messages in total",
           gpu_validation_messages_total());
     return test_finish();

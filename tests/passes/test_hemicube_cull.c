@@ -79,7 +79,7 @@ static xrad_status render(xrad_context *ctx, const gpu_scene *gs, hemicube_pass 
     xrad_status s = gpu_cmd_begin(ctx, &c, err);
     if (s)
         return s;
-    hemicube_draw d = {.mesh = hemicube_scene_mesh(gs), .index_count = gs->index_count,
+    hemicube_draw d = {.mesh = gpu_scene_hemicube_mesh(gs), .index_count = gs->index_count,
                        .frames = frames, .first = k, .count = 1};
     if (cull) {
         hemicube_cull_record(
@@ -196,7 +196,7 @@ int main(void)
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                    VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                                GPU_MEM_READBACK, GPU_MEM_OTHER, &commands, &err)) ||
-        (s = hemicube_create(ctx, &gs, RES, 1, &pass, &err)) ||
+        (s = hemicube_create(ctx, gs.diameter, RES, 1, &pass, &err)) ||
         (s = hemicube_cull_create(ctx, &cull, &err))) {
         CHECK(0, "setup: %s", err.message);
         goto done;

@@ -199,7 +199,7 @@ static void run_path(xrad_context *ctx, gpu_scene *gs, hemicube_path path, const
     for (int mode = 0; mode < 2; mode++) {
         uint32_t count = mode == 0 ? CUBES : 2;
         hemicube_draw d = {
-            .mesh = hemicube_scene_mesh(gs),
+            .mesh = gpu_scene_hemicube_mesh(gs),
             .index_count = gs->index_count,
             .frames = fbuf,
             .count = count,
@@ -320,7 +320,7 @@ int main(void)
     if (!s) {
         /* The automatic choice. */
         hemicube_pass *pass = NULL;
-        s = hemicube_create(ctx, &gs, RES, MAX_CUBES, &pass, &err);
+        s = hemicube_create(ctx, gs.diameter, RES, MAX_CUBES, &pass, &err);
         CHECK(s == XRAD_OK, "auto: %s", err.message);
         if (!s) {
             const char *want = ok[0] ? "multiview" : "layered";

@@ -125,7 +125,7 @@ static xrad_status gather_moments(xrad_context *ctx, const xrad_scene *sc, const
                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
                       VK_PIPELINE_STAGE_FRAGMENT_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
     hemicube_record(hc, c.cmd,
-                    &(hemicube_draw){.mesh = hemicube_scene_mesh(&gs),
+                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(&gs),
                                      .index_count = gs.index_count,
                                      .frames = &fbuf,
                                      .count = n,

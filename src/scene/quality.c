@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "core/error.h"
-#include "solvers/quality.h"
+#include "scene/quality.h"
 
 typedef enum value_rule {
     RULE_NONE,
