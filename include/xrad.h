@@ -234,8 +234,24 @@ typedef struct xrad_object_info {
 XRAD_API xrad_status xrad_scene_get_object(const xrad_scene *scene, uint32_t index,
                                            xrad_object_info *info, xrad_error *err);
 
+/* Places dynamic object `index` by a rigid transform at every scene time,
+ * in place of its animation and offset: `matrix` is object space to world,
+ * column-major 4 x 4 (as xrad_scene_get_object_pose gives it); NULL gives
+ * the animation back. A solver sees it at its next pose, as motion.
+ * XRAD_ERROR_INPUT for a static object or a matrix that is not a rigid
+ * transform (orthonormal within 1e-6, determinant +1, bottom row 0 0 0 1,
+ * translation within 1e9 m). */
+XRAD_API xrad_status xrad_scene_set_pose(xrad_scene *scene, uint32_t index,
+                                         const double matrix[16], xrad_error *err);
+
+/* Material `index`'s emission from now on (W/m^2, each in [0, 1e12]):
+ * lights on, off, dimmed. A solver created later solves with it; the
+ * real-time scheduler (xrad_vulkan.h) applies it to its running solver. */
+XRAD_API xrad_status xrad_scene_set_emission(xrad_scene *scene, uint32_t index,
+                                             const double emission[3], xrad_error *err);
+
 /* Object `index`'s pose at scene time `time` (its animation and its
- * xrad_scene_set_offset): the object-space to world matrix, column-major
+ * xrad_scene_set_offset, or its xrad_scene_set_pose): the object-space to world matrix, column-major
  * 4 x 4 (matrix[12..14] the translation), as GLSL's mat4 takes it. */
 XRAD_API xrad_status xrad_scene_get_object_pose(const xrad_scene *scene, uint32_t index,
                                                 double time, double matrix[16],

@@ -1,7 +1,8 @@
 /*
  * Minimal test harness: CHECK macros that count failures and a summary.
- * A test program returns test_finish(): 0 when every check held, 1
- * otherwise, 77 (meson's "skip") only through test_skip().
+ * A test program returns test_finish(): 0 when every check held and at
+ * least one ran, 1 otherwise, 77 (meson's "skip") only through
+ * test_skip().
  */
 #ifndef XRAD_TEST_HARNESS_H
 #define XRAD_TEST_HARNESS_H
@@ -40,10 +41,13 @@ static int test_checks;
               #got, g_, w_, fabs(g_ - w_), (double)(tol));                   \
     } while (0)
 
+/* A test that ran no check fails: it proved nothing. */
 static inline int test_finish(void)
 {
     fprintf(stderr, "%d checks, %d failed\n", test_checks, test_failures);
-    return test_failures ? 1 : 0;
+    if (!test_checks)
+        fprintf(stderr, "no check ran: the test fails\n");
+    return test_failures || !test_checks ? 1 : 0;
 }
 
 static inline int test_skip(const char *why)

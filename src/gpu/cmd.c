@@ -51,9 +51,9 @@ xrad_status gpu_queue_submit(struct xrad_context *ctx, const VkSubmitInfo *submi
     xrad_status s = gpu_context_check_alive(ctx, "submitting GPU commands", err);
     if (s)
         return s;
-    pthread_mutex_lock(&ctx->queue_lock);
+    gpu_queue_lock(ctx);
     s = VK_CHECK(ctx, err, vkQueueSubmit(ctx->queue, 1, submit, fence));
-    pthread_mutex_unlock(&ctx->queue_lock);
+    gpu_queue_unlock(ctx);
     return s;
 }
 
@@ -67,7 +67,7 @@ xrad_status gpu_cmd_submit_sync(struct xrad_context *ctx, gpu_cmd *c, const gpu_
         return s;
     bool has_timeline = ctx->timeline != VK_NULL_HANDLE;
     bool wait = sync && sync->wait, signal = sync && sync->signal;
-    pthread_mutex_lock(&ctx->queue_lock);
+    gpu_queue_lock(ctx);
     uint64_t value = ctx->timeline_value + 1;
     VkSemaphore signals[2];
     uint64_t signal_values[2];
@@ -101,7 +101,7 @@ xrad_status gpu_cmd_submit_sync(struct xrad_context *ctx, gpu_cmd *c, const gpu_
     s = VK_CHECK(ctx, err, vkQueueSubmit(ctx->queue, 1, &submit, c->fence));
     if (!s)
         ctx->timeline_value = value;
-    pthread_mutex_unlock(&ctx->queue_lock);
+    gpu_queue_unlock(ctx);
     if (s)
         return s;
     c->value = value;

@@ -9,6 +9,7 @@
 
 #include "core/error.h"
 #include "gpu/cmd.h"
+#include "gpu/device_features.h"
 #include "gpu/driver_pin.h"
 #include "gpu/memory.h"
 
@@ -301,172 +302,72 @@ static xrad_status choose_device(struct xrad_context *ctx, const char *wanted, x
 
 static xrad_status create_device(struct xrad_context *ctx, bool present, xrad_error *err)
 {
-    uint32_t qn = 0;
-    vkGetPhysicalDeviceQueueFamilyProperties(ctx->phys, &qn, NULL);
-    VkQueueFamilyProperties *qf = calloc(qn ? qn : 1, sizeof(*qf));
-    if (!qf)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (queue families)");
-    vkGetPhysicalDeviceQueueFamilyProperties(ctx->phys, &qn, qf);
-    uint32_t family = UINT32_MAX;
-    const VkQueueFlags need = VK_QUEUE_GRAPHICS_BIT | VK_QUEUE_COMPUTE_BIT;
-    for (uint32_t i = 0; i < qn && family == UINT32_MAX; i++)
-        if ((qf[i].queueFlags & need) == need)
-            family = i;
-    uint32_t ts_bits = family != UINT32_MAX ? qf[family].timestampValidBits : 0;
-    free(qf);
-    if (family == UINT32_MAX)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM,
-                         "device '%s' has no queue family with both graphics and compute",
-                         ctx->props.deviceName);
-    ctx->queue_family = family;
-
-    uint32_t en = 0;
-    if (VK_CHECK(ctx, err, vkEnumerateDeviceExtensionProperties(ctx->phys, NULL, &en, NULL)))
-        return XRAD_ERROR_SYSTEM;
-    VkExtensionProperties *ext = calloc(en ? en : 1, sizeof(*ext));
-    if (!ext)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (device extensions)");
-    if (VK_CHECK(ctx, err, vkEnumerateDeviceExtensionProperties(ctx->phys, NULL, &en, ext))) {
-        free(ext);
-        return XRAD_ERROR_SYSTEM;
-    }
-    bool api13 = ctx->props.apiVersion >= VK_API_VERSION_1_3 &&
-                 ctx->instance_api >= VK_API_VERSION_1_3;
-    bool has_atomic_float = has_extension(ext, en, VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME);
-    bool has_sync2 = has_extension(ext, en, VK_KHR_SYNCHRONIZATION_2_EXTENSION_NAME);
-    bool has_budget = has_extension(ext, en, VK_EXT_MEMORY_BUDGET_EXTENSION_NAME);
-    /* The spec requires enabling it wherever it is offered (MoltenVK). */
-    bool has_portability = has_extension(ext, en, "VK_KHR_portability_subset");
-    bool has_swapchain = has_extension(ext, en, VK_KHR_SWAPCHAIN_EXTENSION_NAME);
-    free(ext);
-    if (present && !has_swapchain)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM,
-                         "device '%s' cannot present to a window (no "
-                         VK_KHR_SWAPCHAIN_EXTENSION_NAME ")",
-                         ctx->props.deviceName);
-
-    /* What the device offers. */
-    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT q_atomic = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
-    };
-    VkPhysicalDeviceSynchronization2Features q_sync2 = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,
-        .pNext = has_atomic_float ? &q_atomic : NULL,
-    };
-    VkPhysicalDeviceVulkan12Features q12 = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
-        .pNext = (api13 || has_sync2) ? (void *)&q_sync2 : (has_atomic_float ? &q_atomic : NULL),
-    };
-    VkPhysicalDeviceVulkan11Features q11 = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
-        .pNext = &q12,
-    };
-    VkPhysicalDeviceFeatures2 q = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
-        .pNext = &q11,
-    };
-    vkGetPhysicalDeviceFeatures2(ctx->phys, &q);
-
-    VkPhysicalDeviceVulkan11Properties p11 = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_PROPERTIES,
-    };
-    VkPhysicalDeviceProperties2 p = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2,
-        .pNext = &p11,
-    };
-    vkGetPhysicalDeviceProperties2(ctx->phys, &p);
-
-    gpu_features *f = &ctx->features;
-    f->timeline_semaphore = q12.timelineSemaphore;
-    f->multiview = q11.multiview;
-    f->multiview_max_views = q11.multiview ? p11.maxMultiviewViewCount : 0;
-    f->shader_output_layer = q12.shaderOutputLayer;
-    f->synchronization2 = (api13 || has_sync2) && q_sync2.synchronization2;
-    f->host_query_reset = q12.hostQueryReset;
-    f->shader_float32_atomic_add = has_atomic_float && q_atomic.shaderBufferFloat32AtomicAdd;
-    f->memory_budget = has_budget;
-    f->fragment_stores_and_atomics = q.features.fragmentStoresAndAtomics;
-    f->vertex_pipeline_stores_and_atomics = q.features.vertexPipelineStoresAndAtomics;
-    f->multi_draw_indirect = q.features.multiDrawIndirect;
-    f->draw_indirect_first_instance = q.features.drawIndirectFirstInstance;
-    f->timestamp_valid_bits = ts_bits;
-    f->timestamps = ts_bits > 0 && ctx->props.limits.timestampPeriod > 0;
-    f->timestamp_period = ctx->props.limits.timestampPeriod;
-    f->subgroup_size = p11.subgroupSize;
-    f->subgroup_ops = (p11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT)
-                          ? p11.subgroupSupportedOperations
-                          : 0;
-
+    gpu_device_offer offer;
+    xrad_status s = gpu_device_query(ctx, ctx->phys, ctx->instance_api, present, &offer, err);
+    if (s)
+        return s;
+    ctx->queue_family = offer.queue_family;
+    ctx->features = offer.features;
     /* What is enabled: exactly the recorded features, nothing else. */
-    VkPhysicalDeviceShaderAtomicFloatFeaturesEXT e_atomic = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT,
-        .shaderBufferFloat32AtomicAdd = f->shader_float32_atomic_add,
-    };
-    VkPhysicalDeviceSynchronization2Features e_sync2 = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SYNCHRONIZATION_2_FEATURES,
-        .pNext = f->shader_float32_atomic_add ? &e_atomic : NULL,
-        .synchronization2 = VK_TRUE,
-    };
-    void *after12 = f->synchronization2 ? (void *)&e_sync2
-                                        : (f->shader_float32_atomic_add ? &e_atomic : NULL);
-    VkPhysicalDeviceVulkan12Features e12 = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES,
-        .pNext = after12,
-        .timelineSemaphore = f->timeline_semaphore,
-        .shaderOutputLayer = f->shader_output_layer,
-        .hostQueryReset = f->host_query_reset,
-    };
-    VkPhysicalDeviceVulkan11Features e11 = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES,
-        .pNext = &e12,
-        .multiview = f->multiview,
-    };
-    VkPhysicalDeviceFeatures2 e = {
-        .sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2,
-        .pNext = &e11,
-        .features = {
-            .fragmentStoresAndAtomics = f->fragment_stores_and_atomics,
-            .vertexPipelineStoresAndAtomics = f->vertex_pipeline_stores_and_atomics,
-            .multiDrawIndirect = f->multi_draw_indirect,
-            .drawIndirectFirstInstance = f->draw_indirect_first_instance,
-        },
-    };
-    const char *enable[5];
-    uint32_t enable_count = 0;
-    if (present)
-        enable[enable_count++] = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
-    if (f->shader_float32_atomic_add)
-        enable[enable_count++] = VK_EXT_SHADER_ATOMIC_FLOAT_EXTENSION_NAME;
-    if (f->synchronization2 && !api13)
-        enable[enable_count++] = VK_KHR_SYNCHRONIZATION_2_EXTENSION_NAME;
-    if (has_budget)
-        enable[enable_count++] = VK_EXT_MEMORY_BUDGET_EXTENSION_NAME;
-    if (has_portability)
-        enable[enable_count++] = "VK_KHR_portability_subset";
-
+    gpu_device_enable e;
+    gpu_device_enable_chain(&offer, present, &e);
     float priority = 1.0f;
     VkDeviceQueueCreateInfo queue = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO,
-        .queueFamilyIndex = family,
+        .queueFamilyIndex = offer.queue_family,
         .queueCount = 1,
         .pQueuePriorities = &priority,
     };
     VkDeviceCreateInfo info = {
         .sType = VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO,
-        .pNext = &e,
+        .pNext = &e.features,
         .queueCreateInfoCount = 1,
         .pQueueCreateInfos = &queue,
-        .enabledExtensionCount = enable_count,
-        .ppEnabledExtensionNames = enable,
+        .enabledExtensionCount = e.extension_count,
+        .ppEnabledExtensionNames = e.extensions,
     };
     if (VK_CHECK(ctx, err, vkCreateDevice(ctx->phys, &info, NULL, &ctx->device)))
         return XRAD_ERROR_SYSTEM;
-    vkGetDeviceQueue(ctx->device, family, 0, &ctx->queue);
+    vkGetDeviceQueue(ctx->device, offer.queue_family, 0, &ctx->queue);
+    return gpu_context_finish(ctx, err);
+}
 
+xrad_status gpu_context_finish(struct xrad_context *ctx, xrad_error *err)
+{
     xrad_status s;
-    if (f->timeline_semaphore && (s = gpu_timeline_create(ctx, &ctx->timeline, err)))
+    if (ctx->features.timeline_semaphore && (s = gpu_timeline_create(ctx, &ctx->timeline, err)))
         return s;
     return gpu_memory_create(ctx, &ctx->mem, err);
+}
+
+xrad_status gpu_context_alloc(const gpu_context_settings *settings, struct xrad_context **out,
+                              xrad_error *err)
+{
+    *out = NULL;
+    if (!(settings->memory_limit_mib >= 0 && settings->memory_limit_mib < 1e9))
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "context: memory_limit_mib %g is not a size in MiB in [0, 1e9)",
+                         settings->memory_limit_mib);
+    gpu_fault fault = {0};
+    xrad_status s;
+    if (settings->fault && *settings->fault && (s = gpu_fault_parse(settings->fault, &fault, err)))
+        return s;
+    struct xrad_context *ctx = calloc(1, sizeof(*ctx));
+    if (!ctx)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (context)");
+    atomic_init(&ctx->validation_messages, 0);
+    if (pthread_mutex_init(&ctx->queue_lock, NULL) != 0) {
+        free(ctx);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "context: pthread_mutex_init failed");
+    }
+    if (fault.function[0])
+        gpu_fault_set(ctx, fault.function, fault.nth, fault.result);
+    ctx->wait_timeout_ns = DEFAULT_WAIT_TIMEOUT_NS;
+    ctx->memory_limit = (uint64_t)(settings->memory_limit_mib * 1048576.0);
+    ctx->log = settings->log;
+    ctx->log_user = settings->log_user;
+    *out = ctx;
+    return XRAD_OK;
 }
 
 xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **out,
@@ -476,41 +377,36 @@ xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **ou
     xrad_context_desc zero = {0};
     if (!desc)
         desc = &zero;
-    struct xrad_context *ctx = calloc(1, sizeof(*ctx));
-    if (!ctx)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory (context)");
-    atomic_init(&ctx->validation_messages, 0);
-    if (pthread_mutex_init(&ctx->queue_lock, NULL) != 0) {
-        free(ctx);
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "context: pthread_mutex_init failed");
-    }
-    ctx->present = desc->present == 1;
-    ctx->wait_timeout_ns = DEFAULT_WAIT_TIMEOUT_NS;
-    xrad_status s;
-    if (desc->fault && *desc->fault && (s = gpu_fault_parse(desc->fault, &ctx->fault, err))) {
-        pthread_mutex_destroy(&ctx->queue_lock);
-        free(ctx);
+    struct xrad_context *ctx;
+    xrad_status s = gpu_context_alloc(&(gpu_context_settings){desc->memory_limit_mib, desc->fault,
+                                                               desc->log, desc->log_user},
+                                      &ctx, err);
+    if (s)
         return s;
-    }
-    if (!(desc->memory_limit_mib >= 0 && desc->memory_limit_mib < 1e9)) {
-        pthread_mutex_destroy(&ctx->queue_lock);
-        free(ctx);
-        return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "context: memory_limit_mib %g is not a size in MiB in [0, 1e9)",
-                         desc->memory_limit_mib);
-    }
-    ctx->memory_limit = (uint64_t)(desc->memory_limit_mib * 1048576.0);
-    ctx->log = desc->log;
-    ctx->log_user = desc->log_user;
-    bool validation = desc->validation == 1;
+    ctx->present = desc->present == 1;
     const char *wanted = desc->device && *desc->device ? desc->device : NULL;
-    if ((s = create_instance(ctx, validation, desc, err)) || (s = choose_device(ctx, wanted, err)) ||
-        (s = create_device(ctx, desc->present == 1, err))) {
+    if ((s = create_instance(ctx, desc->validation == 1, desc, err)) ||
+        (s = choose_device(ctx, wanted, err)) || (s = create_device(ctx, ctx->present, err))) {
         xrad_context_destroy(&ctx);
         return s;
     }
     *out = ctx;
     return XRAD_OK;
+}
+
+void gpu_queue_lock(struct xrad_context *ctx)
+{
+    pthread_mutex_lock(&ctx->queue_lock);
+    if (ctx->import.lock_queue)
+        ctx->import.lock_queue(ctx->import.queue_user, ctx->queue_family, ctx->import.queue_index);
+}
+
+void gpu_queue_unlock(struct xrad_context *ctx)
+{
+    if (ctx->import.unlock_queue)
+        ctx->import.unlock_queue(ctx->import.queue_user, ctx->queue_family,
+                                 ctx->import.queue_index);
+    pthread_mutex_unlock(&ctx->queue_lock);
 }
 
 void xrad_context_destroy(xrad_context **pctx)
@@ -520,9 +416,13 @@ void xrad_context_destroy(xrad_context **pctx)
     struct xrad_context *ctx = *pctx;
     if (ctx->device) {
         /* After a loss or a hang the device may never go idle; its objects
-         * may still be destroyed (Vulkan spec, "Lost Device"). */
-        if (!atomic_load(&ctx->lost))
-            vkDeviceWaitIdle(ctx->device);
+         * may still be destroyed (Vulkan spec, "Lost Device"). An imported
+         * device's other queues are the application's: wait for xrad's. */
+        if (!atomic_load(&ctx->lost)) {
+            gpu_queue_lock(ctx);
+            vkQueueWaitIdle(ctx->queue);
+            gpu_queue_unlock(ctx);
+        }
         if (ctx->mem) {
             gpu_memory_stats st;
             gpu_memory_get_stats(ctx, &st);
@@ -534,11 +434,12 @@ void xrad_context_destroy(xrad_context **pctx)
         vkDestroySemaphore(ctx->device, ctx->timeline, NULL);
         for (uint32_t i = 0; i < ctx->pool_count; i++)
             vkDestroyCommandPool(ctx->device, ctx->pools[i].pool, NULL);
-        vkDestroyDevice(ctx->device, NULL);
+        if (!ctx->import.imported)
+            vkDestroyDevice(ctx->device, NULL);
     }
     if (ctx->messenger)
         ctx->destroy_messenger(ctx->instance, ctx->messenger, NULL);
-    if (ctx->instance)
+    if (ctx->instance && !ctx->import.imported)
         vkDestroyInstance(ctx->instance, NULL);
     pthread_mutex_destroy(&ctx->queue_lock);
     free(ctx);

@@ -87,6 +87,16 @@ struct xrad_context {
     gpu_fault fault;
     xrad_log_fn log; /* xrad_context_desc.log; NULL: stderr */
     void *log_user;
+    /* The application's instance and device (include/xrad_vulkan.h):
+     * xrad destroys neither, and takes the application's queue lock
+     * around its own (gpu_queue_lock). */
+    struct {
+        bool imported;
+        uint32_t queue_index;
+        void (*lock_queue)(void *user, uint32_t family, uint32_t index);
+        void (*unlock_queue)(void *user, uint32_t family, uint32_t index);
+        void *queue_user;
+    } import;
     /* Set by VK_ERROR_DEVICE_LOST (real or injected) and by wait timeouts:
      * later submissions refuse, and destroy does not wait on the device.
      * Atomic: the scheduler's worker sets it, the display thread reads it. */
@@ -102,6 +112,27 @@ uint32_t gpu_validation_messages_total(void);
  * as "xrad: MESSAGE" without one or without a context. */
 void gpu_log(const struct xrad_context *ctx, xrad_log_level level, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+
+/* Held around every use of the queue: the context's lock, then the
+ * application's for an imported queue. */
+void gpu_queue_lock(struct xrad_context *ctx);
+void gpu_queue_unlock(struct xrad_context *ctx);
+
+/* What every context takes from its desc, before a device: a context
+ * with its lock, log, memory limit and fault rule, and nothing of Vulkan
+ * yet; xrad_context_destroy frees it. */
+typedef struct gpu_context_settings {
+    double memory_limit_mib;
+    const char *fault;
+    xrad_log_fn log;
+    void *log_user;
+} gpu_context_settings;
+xrad_status gpu_context_alloc(const gpu_context_settings *settings, struct xrad_context **out,
+                              xrad_error *err);
+
+/* Once the device and queue are in place: the context's timeline
+ * semaphore and memory allocator. */
+xrad_status gpu_context_finish(struct xrad_context *ctx, xrad_error *err);
 
 /* The calling thread's command pool, created on its first use; freed with
  * the context. */

@@ -258,9 +258,9 @@ xrad_status gpu_swapchain_present(struct xrad_context *ctx, gpu_swapchain *sc, u
         .pSwapchains = &sc->cur.swapchain,
         .pImageIndices = &index,
     };
-    pthread_mutex_lock(&ctx->queue_lock);
+    gpu_queue_lock(ctx);
     VkResult r = vkQueuePresentKHR(ctx->queue, &info);
-    pthread_mutex_unlock(&ctx->queue_lock);
+    gpu_queue_unlock(ctx);
     if (r == VK_ERROR_OUT_OF_DATE_KHR || r == VK_SUBOPTIMAL_KHR) {
         *out_of_date = true;
         return XRAD_OK;

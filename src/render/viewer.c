@@ -145,9 +145,9 @@ void viewer_destroy(viewer **pv)
             vkWaitForFences(ctx->device, 1, &v->slots[i].fence, VK_TRUE, ctx->wait_timeout_ns);
     /* Presents hold the swapchains' semaphores: teardown waits for the queue. */
     if (!atomic_load(&ctx->lost)) {
-        pthread_mutex_lock(&ctx->queue_lock);
+        gpu_queue_lock(ctx);
         vkQueueWaitIdle(ctx->queue);
-        pthread_mutex_unlock(&ctx->queue_lock);
+        gpu_queue_unlock(ctx);
     }
     for (uint32_t i = 0; i < SLOTS; i++)
         slot_destroy(ctx, v, &v->slots[i]);

@@ -81,6 +81,10 @@ typedef struct object {
     /* m, world: added to the pose at every time (xrad_scene_set_offset: an
      * application moving the object by hand); zero from the file. */
     vec3 offset;
+    /* xrad_scene_set_pose: object space -> world at every time, in place of
+     * the animation and the offset. */
+    bool posed;
+    xform pose;
 } object;
 
 /* A planar convex quad with a bilinear parametrisation
@@ -165,6 +169,15 @@ vec3 surface_point(const surface *s, double u, double v);
 
 /* Object space -> world for `object` at scene time `t` (see animation). */
 xform scene_object_pose(const xrad_scene *scene, uint32_t object, double t);
+
+/* What xrad_scene_set_pose and xrad_scene_set_emission accept, checked
+ * without changing the scene (the scheduler checks requests on the
+ * application's thread while its worker poses the scene): *out receives
+ * the pose (may be NULL). */
+xrad_status scene_check_pose(const xrad_scene *scene, uint32_t index, const double matrix[16],
+                             xform *out, xrad_error *err);
+xrad_status scene_check_emission(const xrad_scene *scene, uint32_t index,
+                                 const double emission[3], xrad_error *err);
 
 /* World-space corners and normal of a surface at time t. */
 void scene_surface_world(const xrad_scene *scene, uint32_t surface, double t,

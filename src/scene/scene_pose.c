@@ -49,6 +49,8 @@ static vec3 keyframe_translation(const animation *a, double t)
 xform scene_object_pose(const xrad_scene *scene, uint32_t object_index, double t)
 {
     const object *o = &scene->objects[object_index];
+    if (o->posed)
+        return o->pose;
     xform pose = o->base;
     if (!o->dynamic)
         return pose;
@@ -157,6 +159,90 @@ xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
     info->normal[1] = s->normal.y;
     info->normal[2] = s->normal.z;
     return XRAD_OK;
+}
+
+xrad_status scene_check_pose(const xrad_scene *scene, uint32_t index, const double matrix[16],
+                             xform *out, xrad_error *err)
+{
+    if (!scene || index >= scene->object_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "scene: object %u does not exist (%u objects)",
+                         index, scene ? scene->object_count : 0);
+    const object *o = &scene->objects[index];
+    if (!o->dynamic)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: object '%s' is static; only dynamic objects may be moved",
+                         scene->path, o->name);
+    if (!matrix)
+        return XRAD_OK;
+    xform x;
+    for (int c = 0; c < 3; c++)
+        for (int r = 0; r < 3; r++)
+            x.r.m[r][c] = matrix[c * 4 + r];
+    x.t = v3(matrix[12], matrix[13], matrix[14]);
+    /* Rigid: orthonormal columns, determinant +1, no projective row; a
+     * scaled or sheared object would change its elements' areas. */
+    double worst = 0;
+    for (int a = 0; a < 3; a++)
+        for (int b = 0; b < 3; b++) {
+            double dot = 0;
+            for (int r = 0; r < 3; r++)
+                dot += x.r.m[r][a] * x.r.m[r][b];
+            worst = fmax(worst, fabs(dot - (a == b)));
+        }
+    vec3 c0 = v3(x.r.m[0][0], x.r.m[1][0], x.r.m[2][0]);
+    vec3 c1 = v3(x.r.m[0][1], x.r.m[1][1], x.r.m[2][1]);
+    vec3 c2 = v3(x.r.m[0][2], x.r.m[1][2], x.r.m[2][2]);
+    double det = v3_dot(v3_cross(c0, c1), c2);
+    bool finite = true;
+    for (int k = 0; k < 16; k++)
+        finite = finite && fabs(matrix[k]) <= 1e9;
+    if (!finite || !(worst < 1e-6) || !(det > 0) || matrix[3] != 0 || matrix[7] != 0 ||
+        matrix[11] != 0 || matrix[15] != 1)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: object '%s': the pose is not a rigid transform (rotation off "
+                         "orthonormal by %.3g, determinant %.6g, bottom row %g %g %g %g)",
+                         scene->path, o->name, worst, det, matrix[3], matrix[7], matrix[11],
+                         matrix[15]);
+    if (out)
+        *out = x;
+    return XRAD_OK;
+}
+
+xrad_status xrad_scene_set_pose(xrad_scene *scene, uint32_t index, const double matrix[16],
+                                xrad_error *err)
+{
+    xform x;
+    xrad_status st = scene_check_pose(scene, index, matrix, &x, err);
+    if (st)
+        return st;
+    scene->objects[index].posed = matrix != NULL;
+    if (matrix)
+        scene->objects[index].pose = x;
+    return XRAD_OK;
+}
+
+xrad_status scene_check_emission(const xrad_scene *scene, uint32_t index,
+                                 const double emission[3], xrad_error *err)
+{
+    if (!scene || index >= scene->material_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "scene: material %u does not exist (%u materials)", index,
+                         scene ? scene->material_count : 0);
+    for (int c = 0; c < 3; c++)
+        if (!(emission[c] >= 0 && emission[c] <= 1e12))
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "%s: material '%s': emission %g is not in [0, 1e12] W/m^2",
+                             scene->path, scene->materials[index].name, emission[c]);
+    return XRAD_OK;
+}
+
+xrad_status xrad_scene_set_emission(xrad_scene *scene, uint32_t index, const double emission[3],
+                                    xrad_error *err)
+{
+    xrad_status st = scene_check_emission(scene, index, emission, err);
+    if (!st)
+        scene->materials[index].emission = v3(emission[0], emission[1], emission[2]);
+    return st;
 }
 
 xrad_status xrad_scene_get_material(const xrad_scene *scene, uint32_t index,

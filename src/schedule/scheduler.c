@@ -146,14 +146,29 @@ static xrad_status new_solver(scheduler *s, xrad_method method, double time, xra
     return st ? st : xrad_solver_solve(s->solver, err);
 }
 
+/* The request's poses and emissions applied to the worker's scene. */
+static xrad_status apply_changes(scheduler *s, const scheduler_request *r, xrad_error *err)
+{
+    xrad_status st = XRAD_OK;
+    for (uint32_t i = 0; i < r->pose_count && !st; i++)
+        st = xrad_scene_set_pose(s->scene, r->poses[i].object,
+                                 r->poses[i].clear ? NULL : r->poses[i].matrix, err);
+    for (uint32_t i = 0; i < r->emission_count && !st; i++)
+        st = xrad_scene_set_emission(s->scene, r->emissions[i].material,
+                                     r->emissions[i].emission, err);
+    return st;
+}
+
 static xrad_status frame(scheduler *s, const scheduler_request *r, uint64_t serial,
                          xrad_error *err)
 {
     xrad_status st = apply_offsets(s, r, err);
+    if (!st)
+        st = apply_changes(s, r, err);
     if (st)
         return st;
-    if (r->method && r->method != s->desc.method)
-        st = new_solver(s, r->method, r->time, err);
+    if ((r->method && r->method != s->desc.method) || r->emission_count)
+        st = new_solver(s, r->method ? r->method : s->desc.method, r->time, err);
     else
         st = xrad_solver_advance(s->solver, r->time, err);
     return st ? st : publish(s, r->time, serial, err);
@@ -251,12 +266,39 @@ xrad_status scheduler_frame_end(scheduler *s, const scheduler_frame *f, bool sub
 
 /* --------------------------------------------------------------- API */
 
+/* Keeps the poses and emissions of `old` (a request the worker has not
+ * started) that `r` does not replace. */
+static void merge_changes(scheduler_request *r, const scheduler_request *old)
+{
+    for (uint32_t i = 0; i < old->pose_count; i++) {
+        bool named = false;
+        for (uint32_t k = 0; k < r->pose_count && !named; k++)
+            named = r->poses[k].object == old->poses[i].object;
+        if (!named && r->pose_count < SCHEDULER_MAX_OBJECTS)
+            r->poses[r->pose_count++] = old->poses[i];
+    }
+    for (uint32_t i = 0; i < old->emission_count; i++) {
+        bool named = false;
+        for (uint32_t k = 0; k < r->emission_count && !named; k++)
+            named = r->emissions[k].material == old->emissions[i].material;
+        if (!named && r->emission_count < SCHEDULER_MAX_MATERIALS)
+            r->emissions[r->emission_count++] = old->emissions[i];
+    }
+}
+
 void scheduler_request_frame(scheduler *s, const scheduler_request *r)
 {
     pthread_mutex_lock(&s->lock);
-    s->pending = *r;
-    if (s->pending.offset_count > SCHEDULER_MAX_OBJECTS)
-        s->pending.offset_count = SCHEDULER_MAX_OBJECTS;
+    scheduler_request next = *r;
+    if (next.offset_count > SCHEDULER_MAX_OBJECTS)
+        next.offset_count = SCHEDULER_MAX_OBJECTS;
+    if (next.pose_count > SCHEDULER_MAX_OBJECTS)
+        next.pose_count = SCHEDULER_MAX_OBJECTS;
+    if (next.emission_count > SCHEDULER_MAX_MATERIALS)
+        next.emission_count = SCHEDULER_MAX_MATERIALS;
+    if (s->pending_serial != s->taken_serial)
+        merge_changes(&next, &s->pending);
+    s->pending = next;
     s->pending_serial++;
     s->stats.requested = s->pending_serial;
     pthread_cond_signal(&s->wake);
@@ -277,6 +319,16 @@ xrad_status scheduler_wait_published(scheduler *s, uint64_t request_serial, xrad
     pthread_mutex_unlock(&s->lock);
     /* ... and completed on the GPU, so that the next frame_begin swaps. */
     return st ? st : gpu_timeline_wait(s->ctx, s->redistributed, value, err);
+}
+
+const xrad_scene *scheduler_scene(const scheduler *s) { return s->scene; }
+
+const gpu_image *scheduler_atlas_of(const scheduler *s, VkImage image)
+{
+    for (int i = 0; i < 2; i++)
+        if (image && s->atlas[i].image == image)
+            return &s->atlas[i];
+    return NULL;
 }
 
 void scheduler_get_stats(scheduler *s, scheduler_stats *out)
@@ -378,9 +430,9 @@ void scheduler_destroy(scheduler **ps)
     }
     /* Teardown: the display's last frames and the last publication. */
     if (!atomic_load(&ctx->lost)) {
-        pthread_mutex_lock(&ctx->queue_lock);
+        gpu_queue_lock(ctx);
         vkQueueWaitIdle(ctx->queue);
-        pthread_mutex_unlock(&ctx->queue_lock);
+        gpu_queue_unlock(ctx);
     }
     gpu_cmd_destroy(ctx, &s->publishing);
     xrad_solver_destroy(&s->solver);

@@ -43,12 +43,36 @@ typedef struct scheduler_desc {
     xrad_solver_desc solver; /* method and settings; .time: the first solve's pose */
 } scheduler_desc;
 
-/* What the worker is asked for. */
+#define SCHEDULER_MAX_MATERIALS 64
+
+/* An object placed by a rigid transform (xrad_scene_set_pose), or given
+ * its animation back (`clear`). */
+typedef struct scheduler_pose {
+    uint32_t object;
+    bool clear;
+    double matrix[16];
+} scheduler_pose;
+
+/* A material's new emission (xrad_scene_set_emission). */
+typedef struct scheduler_emission {
+    uint32_t material;
+    double emission[3];
+} scheduler_emission;
+
+/* What the worker is asked for. A request that replaces one the worker
+ * has not started keeps that one's poses and emissions of objects and
+ * materials it does not name itself, so no change is lost. */
 typedef struct scheduler_request {
     double time;          /* s, scene time */
     xrad_method method;   /* 0: keep; another method: a new solver, solved anew */
     uint32_t offset_count; /* objects whose offsets follow; at most SCHEDULER_MAX_OBJECTS */
     double offsets[SCHEDULER_MAX_OBJECTS][3]; /* xrad_scene_set_offset of object i (dynamic ones) */
+    uint32_t pose_count;
+    scheduler_pose poses[SCHEDULER_MAX_OBJECTS];
+    /* Any emission change makes the worker solve anew with its method
+     * (from B = E: the light changed everywhere). */
+    uint32_t emission_count;
+    scheduler_emission emissions[SCHEDULER_MAX_MATERIALS];
 } scheduler_request;
 
 /* What one display frame samples and how its submission synchronises. */
@@ -112,6 +136,14 @@ xrad_status scheduler_frame_end(scheduler *s, const scheduler_frame *f, bool sub
  * and its publication completed on the GPU (the next frame_begin swaps to
  * it), or the worker failed. For tests and screenshots. */
 xrad_status scheduler_wait_published(scheduler *s, uint64_t request_serial, xrad_error *err);
+
+/* The scene it took over: its objects and materials may be read (not
+ * their poses, offsets and emissions, which the worker writes). */
+const xrad_scene *scheduler_scene(const scheduler *s);
+
+/* Which of its atlases `image` is (a frame's, handed out as a handle);
+ * NULL for none. */
+const gpu_image *scheduler_atlas_of(const scheduler *s, VkImage image);
 
 /* A copy of the statistics. */
 void scheduler_get_stats(scheduler *s, scheduler_stats *out);
