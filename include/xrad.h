@@ -229,6 +229,10 @@ typedef struct xrad_object_info {
     double offset[3]; /* m, the xrad_scene_set_offset displacement */
 } xrad_object_info;
 
+/* The scene's camera (the file's, or the builder's default): metres,
+ * world; fov_degrees vertical; width x height its image size. */
+XRAD_API void xrad_scene_get_camera(const xrad_scene *scene, xrad_camera_desc *out);
+
 /* Object `index` (0 .. info.objects - 1) in file order; XRAD_ERROR_INPUT
  * for an index out of range. */
 XRAD_API xrad_status xrad_scene_get_object(const xrad_scene *scene, uint32_t index,

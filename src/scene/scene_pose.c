@@ -245,6 +245,19 @@ xrad_status xrad_scene_set_emission(xrad_scene *scene, uint32_t index, const dou
     return st;
 }
 
+void xrad_scene_get_camera(const xrad_scene *scene, xrad_camera_desc *out)
+{
+    const camera *c = &scene->cam;
+    *out = (xrad_camera_desc){
+        .position = {c->position.x, c->position.y, c->position.z},
+        .look_at = {c->look_at.x, c->look_at.y, c->look_at.z},
+        .up = {c->up.x, c->up.y, c->up.z},
+        .fov_degrees = c->fov_y * 180.0 / M_PI,
+        .width = c->width,
+        .height = c->height,
+    };
+}
+
 xrad_status xrad_scene_get_material(const xrad_scene *scene, uint32_t index,
                                     xrad_material_info *info, xrad_error *err)
 {
