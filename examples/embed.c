@@ -1043,10 +1043,10 @@ int main(int argc, char **argv)
             }
             if (o.screenshot && (st = screenshot(&a, sch, o.screenshot)))
                 break;
-            xrad_solver_stats ss;
+            xrad_scheduler_stats ss;
             xrad_scheduler_get_stats(sch, &ss);
             printf("embed: %u frames, last solution at t = %.3f s, %s, %u hemicubes\n", frame,
-                   t, xrad_method_name(o.method), ss.hemicubes);
+                   t, xrad_method_name(o.method), ss.last.hemicubes);
             break;
         }
     }

@@ -229,6 +229,10 @@ typedef struct xrad_object_info {
     double offset[3]; /* m, the xrad_scene_set_offset displacement */
 } xrad_object_info;
 
+/* The box around every surface at scene time `time` (m, world). */
+XRAD_API void xrad_scene_get_bounds(const xrad_scene *scene, double time, double lo[3],
+                                    double hi[3]);
+
 /* The scene's camera (the file's, or the builder's default): metres,
  * world; fov_degrees vertical; width x height its image size. */
 XRAD_API void xrad_scene_get_camera(const xrad_scene *scene, xrad_camera_desc *out);

@@ -196,8 +196,75 @@ XRAD_API xrad_status xrad_scheduler_end_frame(xrad_scheduler *s, const xrad_fram
  * failed (its error). For screenshots and tests, not the loop. */
 XRAD_API xrad_status xrad_scheduler_wait(xrad_scheduler *s, uint64_t serial, xrad_error *err);
 
-/* The worker's solver statistics of its newest publication. */
-XRAD_API void xrad_scheduler_get_stats(xrad_scheduler *s, xrad_solver_stats *stats);
+typedef struct xrad_scheduler_stats {
+    uint64_t requested, published; /* requests made; redistributions published */
+    double time;                   /* s, the scene time of the newest publication */
+    xrad_method method;            /* of the newest publication */
+    int busy;                      /* the worker is redistributing now */
+    /* Host ms per publication, means over the last 32: the whole frame (its
+     * redistribution and progressive iterations, or a fresh solve) and the
+     * redistribution alone (0 for the methods that solve anew). */
+    double frame_ms, redistribute_ms;
+    /* GPU ms per pass and publication, means over the last 32 (`count`
+     * unused). */
+    xrad_pass_time passes[XRAD_MAX_PASSES];
+    uint32_t pass_count;
+    xrad_solver_stats last; /* the solver's, of the newest publication */
+} xrad_scheduler_stats;
+
+XRAD_API void xrad_scheduler_get_stats(xrad_scheduler *s, xrad_scheduler_stats *stats);
+
+/* ------------------------------------------------ showing it in a window */
+
+/* xrad's own display of the loop (what `xrad view` shows): each frame
+ * draws the scene from a free camera with the front atlas, tone-maps it
+ * into a swapchain image of the application's surface and presents it.
+ * The context must have been created with .present = 1 (or imported with
+ * VK_KHR_swapchain enabled). */
+typedef struct xrad_viewer xrad_viewer;
+
+typedef struct xrad_viewer_desc {
+    VkSurfaceKHR surface;   /* the application's; it destroys it after the viewer */
+    uint32_t width, height; /* the window's framebuffer, pixels */
+    int vsync;              /* 1: FIFO; 0: MAILBOX or IMMEDIATE where offered */
+} xrad_viewer_desc;
+
+/* `scene` is the display's copy (the scheduler owns another); it outlives
+ * the viewer, and poses set on it show in the next frame. */
+XRAD_API xrad_status xrad_viewer_create(xrad_context *ctx, const xrad_scene *scene,
+                                        const xrad_viewer_desc *desc, xrad_viewer **out,
+                                        xrad_error *err);
+/* Waits for its GPU work; accepts NULL and *v == NULL; sets *v to NULL. */
+XRAD_API void xrad_viewer_destroy(xrad_viewer **v);
+
+typedef struct xrad_viewer_frame_desc {
+    xrad_camera_desc camera; /* position, look_at, up, fov_degrees (width, height unused) */
+    double time;             /* s, the pose dynamic objects are drawn at */
+    double exposure;         /* > 0; <= 0: automatic from the first solution, then kept */
+    int nearest;             /* 1: elements as flat squares */
+    uint32_t width, height;  /* the framebuffer now; a change recreates the swapchain */
+    /* Non-NULL: after the frame, its image: .exr linear, .png tone-mapped
+     * as the window shows it. */
+    const char *screenshot;
+} xrad_viewer_frame_desc;
+
+/* One frame with the scheduler's front atlas (begin_frame and end_frame
+ * inside). */
+XRAD_API xrad_status xrad_viewer_frame(xrad_viewer *v, xrad_scheduler *s,
+                                       const xrad_viewer_frame_desc *d, xrad_error *err);
+
+typedef struct xrad_viewer_stats {
+    uint64_t frames;       /* presented */
+    uint32_t recreations;  /* swapchain recreations */
+    double exposure;       /* in use */
+    uint64_t serial;       /* the redistribution the last frame showed */
+    double solution_time;  /* s, its scene time */
+    double frame_ms;       /* host ms from frame to frame, mean of the last 32 */
+    xrad_pass_time passes[XRAD_MAX_PASSES]; /* GPU ms of display and present, means */
+    uint32_t pass_count;
+} xrad_viewer_stats;
+
+XRAD_API void xrad_viewer_get_stats(const xrad_viewer *v, xrad_viewer_stats *out);
 
 #ifdef __cplusplus
 }

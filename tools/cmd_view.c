@@ -1,8 +1,7 @@
-/* xrad view SCENE: the real-time loop in a window (GLFW). Redistribution
- * runs on the scheduler's thread (schedule/scheduler.h), display here
- * (render/viewer.h); the window title shows both rates and the pass times.
- * Unlike the other commands this one reaches into the library's internals
- * (the scheduler and viewer are not public API yet). */
+/* xrad view SCENE: the real-time loop in a window (GLFW), on the public API
+ * alone (include/xrad_vulkan.h): redistribution runs on the scheduler's
+ * thread, display here through xrad's viewer; the window title shows both
+ * rates and the pass times. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,12 +12,42 @@
 
 #include "cli.h"
 #include "method.h"
+#include "xrad_vulkan.h"
 
-#include "gpu/context.h"
-#include "render/viewer.h"
-#include "scene/scene.h"
-#include "scene/scene_internal.h"
-#include "schedule/scheduler.h"
+/* The little vector algebra the camera and the grab need. */
+typedef struct vec3 {
+    double x, y, z;
+} vec3;
+
+static vec3 v3(double x, double y, double z) { return (vec3){x, y, z}; }
+static vec3 v3_add(vec3 a, vec3 b) { return v3(a.x + b.x, a.y + b.y, a.z + b.z); }
+static vec3 v3_sub(vec3 a, vec3 b) { return v3(a.x - b.x, a.y - b.y, a.z - b.z); }
+static vec3 v3_scale(vec3 a, double k) { return v3(a.x * k, a.y * k, a.z * k); }
+static double v3_dot(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static vec3 v3_cross(vec3 a, vec3 b)
+{
+    return v3(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+static vec3 v3_norm(vec3 a)
+{
+    double l = sqrt(v3_dot(a, a));
+    return l > 0 ? v3_scale(a, 1 / l) : a;
+}
+static vec3 v3_from(const double *d) { return v3(d[0], d[1], d[2]); }
+static void v3_to(vec3 a, double *d)
+{
+    d[0] = a.x;
+    d[1] = a.y;
+    d[2] = a.z;
+}
+
+/* The free camera: position, look_at, up (m, world), vertical field of view. */
+typedef struct camera {
+    vec3 position, look_at, up;
+    double fov_y; /* radians */
+} camera;
+
+#define VIEW_MAX_OBJECTS 64
 
 static void help(void)
 {
@@ -159,7 +188,8 @@ typedef struct view_state {
     bool paused, step, nearest, screenshot_key;
     xrad_method method;
     int grabbed;       /* object index, -1: none */
-    double offsets[SCHEDULER_MAX_OBJECTS][3];
+    double offsets[VIEW_MAX_OBJECTS][3];
+    bool moved[VIEW_MAX_OBJECTS]; /* grabbed once: its pose goes with every request */
     bool dragging;
     double drag_x, drag_y;
     double diameter;   /* m, the scene's bounding box diagonal */
@@ -185,15 +215,17 @@ static void cam_turn(camera *c, double yaw, double pitch)
 
 static void grab_next(view_state *st)
 {
-    uint32_t n = st->scene->object_count;
-    for (uint32_t k = 1; k <= n; k++) {
+    xrad_scene_info info;
+    xrad_scene_get_info(st->scene, &info);
+    for (uint32_t k = 1; k <= info.objects; k++) {
         int i = st->grabbed + (int)k;
-        if (i >= (int)n)
+        if (i >= (int)info.objects)
             break;
-        if (st->scene->objects[i].dynamic && i < SCHEDULER_MAX_OBJECTS) {
+        xrad_object_info oi;
+        if (!xrad_scene_get_object(st->scene, (uint32_t)i, &oi, NULL) && oi.dynamic &&
+            i < VIEW_MAX_OBJECTS) {
             st->grabbed = i;
-            printf("grabbed '%s' (arrows, PgUp/PgDn move it; G: next)\n",
-                   st->scene->objects[i].name);
+            printf("grabbed '%s' (arrows, PgUp/PgDn move it; G: next)\n", oi.name);
             fflush(stdout);
             return;
         }
@@ -303,70 +335,68 @@ static void poll_motion(view_state *st, double dt)
     o[0] += m.x;
     o[1] += m.y;
     o[2] += m.z;
+    st->moved[st->grabbed] = true;
     xrad_error err;
     xrad_scene_set_offset(st->scene, (uint32_t)st->grabbed, o, &err);
 }
 
 /* ---------------------------------------------------------------- title */
 
-/* The n largest means of a sliding table, "name ms" joined. */
-static void top_passes(const sliding_table *t, int n, char *out, size_t size)
+/* The n largest of `passes`, "name ms" joined. */
+static void top_passes(const xrad_pass_time *passes, uint32_t count, int n, char *out,
+                       size_t size)
 {
-    bool used[SLIDING_SERIES] = {0};
+    bool used[XRAD_MAX_PASSES] = {0};
     size_t len = 0;
     out[0] = 0;
     for (int k = 0; k < n; k++) {
         int best = -1;
-        for (uint32_t i = 0; i < t->count; i++)
-            if (!used[i] &&
-                (best < 0 || sliding_mean(&t->series[i]) > sliding_mean(&t->series[best])))
+        for (uint32_t i = 0; i < count; i++)
+            if (!used[i] && (best < 0 || passes[i].ms > passes[best].ms))
                 best = (int)i;
         if (best < 0)
             break;
         used[best] = true;
         len += (size_t)snprintf(out + len, len < size ? size - len : 0, "%s%s %.1f",
-                                k ? ", " : "", t->names[best], sliding_mean(&t->series[best]));
+                                k ? ", " : "", passes[best].name, passes[best].ms);
     }
 }
 
-static void update_title(view_state *st, const char *name, scheduler *sch, viewer *vw)
+static void update_title(view_state *st, const char *name, xrad_scheduler *sch, xrad_viewer *vw)
 {
-    scheduler_stats ss;
-    viewer_stats vs;
-    scheduler_get_stats(sch, &ss);
-    viewer_get_stats(vw, &vs);
-    double frame = sliding_mean(&vs.frame_ms);
+    xrad_scheduler_stats ss;
+    xrad_viewer_stats vs;
+    xrad_scheduler_get_stats(sch, &ss);
+    xrad_viewer_get_stats(vw, &vs);
     char solver[256], display[128], title[640];
-    top_passes(&ss.passes, 3, solver, sizeof(solver));
-    top_passes(&vs.passes, 2, display, sizeof(display));
+    top_passes(ss.passes, ss.pass_count, 3, solver, sizeof(solver));
+    top_passes(vs.passes, vs.pass_count, 2, display, sizeof(display));
     snprintf(title, sizeof(title),
              "xrad view: %s | %s | display %.1f fps | redistribution %.0f ms (%s)%s | GPU ms: "
              "%s; %s",
-             name, xrad_method_name(st->method), frame > 0 ? 1000.0 / frame : 0.0,
+             name, xrad_method_name(st->method), vs.frame_ms > 0 ? 1000.0 / vs.frame_ms : 0.0,
              ss.frame_ms, ss.published ? "running" : "first solve",
              st->paused ? " | paused" : "", solver, display);
     glfwSetWindowTitle(st->window, title);
 }
 
-static void print_summary(scheduler *sch, viewer *vw)
+static void print_summary(xrad_scheduler *sch, xrad_viewer *vw)
 {
-    scheduler_stats ss;
-    viewer_stats vs;
-    scheduler_get_stats(sch, &ss);
-    viewer_get_stats(vw, &vs);
-    double frame = sliding_mean(&vs.frame_ms);
+    xrad_scheduler_stats ss;
+    xrad_viewer_stats vs;
+    xrad_scheduler_get_stats(sch, &ss);
+    xrad_viewer_get_stats(vw, &vs);
+    double frame = vs.frame_ms;
     printf("view: %llu frames, display %.1f fps (%.2f ms a frame), %llu redistributions, "
            "%.1f ms each with their progressive iterations, %.1f ms the redistribution "
-           "alone (means of the last %d)\n",
+           "alone (means of the last 32)\n",
            (unsigned long long)vs.frames, frame > 0 ? 1000.0 / frame : 0.0, frame,
-           (unsigned long long)ss.published, ss.frame_ms, ss.redistribute_ms, SLIDING_WINDOW);
+           (unsigned long long)ss.published, ss.frame_ms, ss.redistribute_ms);
     printf("  GPU ms per pass (sliding means):\n");
-    for (uint32_t i = 0; i < ss.passes.count; i++)
-        printf("    %-24s %9.2f  (redistribution)\n", ss.passes.names[i],
-               sliding_mean(&ss.passes.series[i]));
-    for (uint32_t i = 0; i < vs.passes.count; i++)
-        printf("    %-24s %9.2f  (display frame)\n", vs.passes.names[i],
-               sliding_mean(&vs.passes.series[i]));
+    for (uint32_t i = 0; i < ss.pass_count; i++)
+        printf("    %-24s %9.2f  (redistribution)\n", ss.passes[i].name, ss.passes[i].ms);
+    for (uint32_t i = 0; i < vs.pass_count; i++)
+        printf("    %-24s %9.2f  (display frame)\n", vs.passes[i].name, vs.passes[i].ms);
     printf("  swapchain recreations: %u, exposure %.4g\n", vs.recreations, vs.exposure);
 }
 
@@ -379,15 +409,39 @@ static void on_glfw_error(int code, const char *message)
     snprintf(glfw_message, sizeof(glfw_message), "%s (GLFW error 0x%x)", message, code);
 }
 
-static xrad_status run(const view_opts *o, view_state *st, scheduler *sch, viewer *vw,
+/* The request of this frame: time, method, and the pose of every object
+ * grabbed so far (its animation at `time` plus its offset, from the
+ * display's copy of the scene). */
+typedef struct view_request {
+    double time;
+    xrad_method method;
+    uint32_t pose_count;
+    xrad_object_pose poses[VIEW_MAX_OBJECTS];
+} view_request;
+
+static void make_request(const view_state *st, double time, view_request *r)
+{
+    memset(r, 0, sizeof(*r)); /* padding too: requests are compared bytewise */
+    r->time = time;
+    r->method = st->method;
+    for (uint32_t i = 0; i < VIEW_MAX_OBJECTS; i++) {
+        if (!st->moved[i])
+            continue;
+        xrad_object_pose *p = &r->poses[r->pose_count++];
+        p->object = i;
+        xrad_scene_get_object_pose(st->scene, i, time, p->matrix, NULL);
+    }
+}
+
+static xrad_status run(const view_opts *o, view_state *st, xrad_scheduler *sch, xrad_viewer *vw,
                        xrad_error *err)
 {
     char name[128];
     cli_basename_noext(o->scene, name, sizeof(name));
     double anim = o->time, last = glfwGetTime(), last_title = 0;
-    scheduler_request req;
+    view_request req;
     memset(&req, 0, sizeof(req));
-    uint64_t requests = 0;
+    uint64_t requests = 0, serial = 0;
     uint32_t shots = 0;
     xrad_status s = XRAD_OK;
     for (uint32_t frame = 1; !glfwWindowShouldClose(st->window); frame++) {
@@ -411,23 +465,20 @@ static xrad_status run(const view_opts *o, view_state *st, scheduler *sch, viewe
         }
 
         /* A request when the pose or the method changed. */
-        scheduler_request r;
-        memset(&r, 0, sizeof(r)); /* padding too: requests are compared bytewise */
-        r.time = anim;
-        r.method = st->method;
-        r.offset_count = st->scene->object_count < SCHEDULER_MAX_OBJECTS
-                             ? st->scene->object_count
-                             : SCHEDULER_MAX_OBJECTS;
-        memcpy(r.offsets, st->offsets, sizeof(r.offsets));
+        view_request r;
+        make_request(st, anim, &r);
         if (!requests || memcmp(&r, &req, sizeof(r))) {
-            scheduler_request_frame(sch, &r);
+            xrad_request q = {.time = r.time,
+                              .method = r.method,
+                              .poses = r.poses,
+                              .pose_count = r.pose_count};
+            if ((s = xrad_scheduler_request(sch, &q, &serial, err)))
+                return s;
             req = r;
             requests++;
         }
         bool last_frame = o->frames && frame >= o->frames;
-        if (last_frame && (s = scheduler_wait_published(sch, requests, err)))
-            return s;
-        if ((s = scheduler_status(sch, err)))
+        if (last_frame && (s = xrad_scheduler_wait(sch, serial, err)))
             return s;
 
         char shot[64];
@@ -444,8 +495,7 @@ static xrad_status run(const view_opts *o, view_state *st, scheduler *sch, viewe
         st->screenshot_key = false;
         int fw, fh;
         glfwGetFramebufferSize(st->window, &fw, &fh);
-        viewer_frame_desc d = {
-            .cam = st->cam,
+        xrad_viewer_frame_desc d = {
             .time = anim,
             .exposure = st->exposure,
             .nearest = st->nearest,
@@ -453,11 +503,15 @@ static xrad_status run(const view_opts *o, view_state *st, scheduler *sch, viewe
             .height = (uint32_t)fh,
             .screenshot = screenshot,
         };
-        if ((s = viewer_frame(vw, sch, &d, err)))
+        v3_to(st->cam.position, d.camera.position);
+        v3_to(st->cam.look_at, d.camera.look_at);
+        v3_to(st->cam.up, d.camera.up);
+        d.camera.fov_degrees = st->cam.fov_y * 180.0 / M_PI;
+        if ((s = xrad_viewer_frame(vw, sch, &d, err)))
             return s;
         if (st->exposure <= 0) {
-            viewer_stats vs;
-            viewer_get_stats(vw, &vs);
+            xrad_viewer_stats vs;
+            xrad_viewer_get_stats(vw, &vs);
             st->exposure = vs.exposure; /* measured: + and - scale it from here */
         }
         if (now - last_title > 0.5) {
@@ -496,8 +550,8 @@ int cmd_view(int argc, char **argv)
     xrad_context *ctx = NULL;
     GLFWwindow *window = NULL;
     VkSurfaceKHR win_surface = VK_NULL_HANDLE;
-    scheduler *sch = NULL;
-    viewer *vw = NULL;
+    xrad_scheduler *sch = NULL;
+    xrad_viewer *vw = NULL;
     uint32_t ext_count = 0;
     const char **exts = glfwVulkanSupported() ? glfwGetRequiredInstanceExtensions(&ext_count)
                                               : NULL;
@@ -516,10 +570,12 @@ int cmd_view(int argc, char **argv)
         rc = cli_report(&err);
         goto done;
     }
+    xrad_camera_desc home;
+    xrad_scene_get_camera(display_scene, &home);
     uint32_t w = o.width, h = o.height;
     if (!w && !h) {
-        w = display_scene->cam.width ? display_scene->cam.width : 960;
-        h = display_scene->cam.height ? display_scene->cam.height : 720;
+        w = home.width ? home.width : 960;
+        h = home.height ? home.height : 720;
     } else if (!h) {
         h = w * 3 / 4;
     } else if (!w) {
@@ -532,25 +588,28 @@ int cmd_view(int argc, char **argv)
         fprintf(stderr, "xrad view: cannot open a window: %s\n", glfw_message);
         goto done;
     }
-    VkResult vr = glfwCreateWindowSurface(ctx->instance, window, NULL, &win_surface);
+    VkResult vr = glfwCreateWindowSurface(xrad_vulkan_instance(ctx), window, NULL, &win_surface);
     if (vr != VK_SUCCESS) {
         fprintf(stderr, "xrad view: cannot make a Vulkan surface for the window: %s (%d)\n",
                 glfw_message, (int)vr);
         goto done;
     }
+    camera cam = {v3_from(home.position), v3_from(home.look_at), v3_from(home.up),
+                  home.fov_degrees * M_PI / 180.0};
     view_state st = {
         .window = window,
         .scene = display_scene,
-        .home = display_scene->cam,
-        .cam = display_scene->cam,
+        .home = cam,
+        .cam = cam,
         .exposure = o.exposure,
         .nearest = o.nearest,
         .method = o.m.solver.method,
         .grabbed = -1,
     };
-    vec3 lo, hi;
-    scene_bounds(display_scene, o.time, &lo, &hi);
-    st.diameter = v3_len(v3_sub(hi, lo));
+    double lo[3], hi[3];
+    xrad_scene_get_bounds(display_scene, o.time, lo, hi);
+    vec3 size = v3_sub(v3_from(hi), v3_from(lo));
+    st.diameter = sqrt(v3_dot(size, size));
     st.move_speed = isfinite(st.diameter) && st.diameter > 0 ? 0.25 * st.diameter : 1.0;
     glfwSetWindowUserPointer(window, &st);
     glfwSetKeyCallback(window, on_key);
@@ -561,12 +620,14 @@ int cmd_view(int argc, char **argv)
 
     int fw, fh;
     glfwGetFramebufferSize(window, &fw, &fh);
-    viewer_desc vd = {.surface = win_surface, .width = (uint32_t)fw, .height = (uint32_t)fh,
-                      .vsync = !o.no_vsync};
-    scheduler_desc sd = {.solver = o.m.solver};
+    xrad_viewer_desc vd = {.surface = win_surface,
+                           .width = (uint32_t)fw,
+                           .height = (uint32_t)fh,
+                           .vsync = !o.no_vsync};
+    xrad_scheduler_desc sd = {.solver = o.m.solver};
     sd.solver.time = o.time;
-    xrad_status s = viewer_create(ctx, display_scene, &vd, &vw, &err);
-    if (!s && !(s = scheduler_create(ctx, scene, &sd, &sch, &err)))
+    xrad_status s = xrad_viewer_create(ctx, display_scene, &vd, &vw, &err);
+    if (!s && !(s = xrad_scheduler_create(ctx, scene, &sd, &sch, &err)))
         scene = NULL; /* the scheduler's now */
     if (!s) {
         if (!o.frames)
@@ -583,8 +644,8 @@ int cmd_view(int argc, char **argv)
         if (o.screenshot)
             printf("screenshot: %s\n", o.screenshot);
     }
-    scheduler_destroy(&sch);
-    viewer_destroy(&vw);
+    xrad_scheduler_destroy(&sch);
+    xrad_viewer_destroy(&vw);
     if (ctx && xrad_context_validation_messages(ctx)) {
         fprintf(stderr, "xrad view: %u validation messages\n",
                 xrad_context_validation_messages(ctx));
@@ -593,7 +654,7 @@ int cmd_view(int argc, char **argv)
 
 done:
     if (win_surface)
-        vkDestroySurfaceKHR(ctx->instance, win_surface, NULL);
+        vkDestroySurfaceKHR(xrad_vulkan_instance(ctx), win_surface, NULL);
     if (window)
         glfwDestroyWindow(window);
     xrad_context_destroy(&ctx);

@@ -245,6 +245,14 @@ xrad_status xrad_scene_set_emission(xrad_scene *scene, uint32_t index, const dou
     return st;
 }
 
+void xrad_scene_get_bounds(const xrad_scene *scene, double time, double lo[3], double hi[3])
+{
+    vec3 l, h;
+    scene_bounds(scene, time, &l, &h);
+    lo[0] = l.x, lo[1] = l.y, lo[2] = l.z;
+    hi[0] = h.x, hi[1] = h.y, hi[2] = h.z;
+}
+
 void xrad_scene_get_camera(const xrad_scene *scene, xrad_camera_desc *out)
 {
     const camera *c = &scene->cam;

@@ -141,6 +141,11 @@ xrad_status scheduler_wait_published(scheduler *s, uint64_t request_serial, xrad
  * their poses, offsets and emissions, which the worker writes). */
 const xrad_scene *scheduler_scene(const scheduler *s);
 
+/* The scheduler inside the public one (scheduler_api.c), for the public
+ * viewer (render/viewer_api.c). */
+struct xrad_scheduler;
+scheduler *scheduler_api_inner(struct xrad_scheduler *x);
+
 /* Which of its atlases `image` is (a frame's, handed out as a handle);
  * NULL for none. */
 const gpu_image *scheduler_atlas_of(const scheduler *s, VkImage image);

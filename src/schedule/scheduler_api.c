@@ -4,6 +4,7 @@
  * and frames in Vulkan handles.
  */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -141,9 +142,24 @@ xrad_status xrad_scheduler_wait(xrad_scheduler *x, uint64_t serial, xrad_error *
     return scheduler_wait_published(x->s, serial, err);
 }
 
-void xrad_scheduler_get_stats(xrad_scheduler *x, xrad_solver_stats *stats)
+void xrad_scheduler_get_stats(xrad_scheduler *x, xrad_scheduler_stats *out)
 {
     scheduler_stats st;
     scheduler_get_stats(x->s, &st);
-    *stats = st.last;
+    memset(out, 0, sizeof(*out));
+    out->requested = st.requested;
+    out->published = st.published;
+    out->time = st.time;
+    out->method = st.method;
+    out->busy = st.busy;
+    out->frame_ms = st.frame_ms;
+    out->redistribute_ms = st.redistribute_ms;
+    for (uint32_t i = 0; i < st.passes.count && i < XRAD_MAX_PASSES; i++) {
+        snprintf(out->passes[i].name, sizeof(out->passes[i].name), "%s", st.passes.names[i]);
+        out->passes[i].ms = sliding_mean(&st.passes.series[i]);
+        out->pass_count = i + 1;
+    }
+    out->last = st.last;
 }
+
+scheduler *scheduler_api_inner(xrad_scheduler *x) { return x->s; }

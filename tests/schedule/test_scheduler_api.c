@@ -351,9 +351,13 @@ int main(void)
           "bright frame");
     compare(mine, &got, &first, 2, 1e-4, "twice the emission vs twice the first solution");
 
-    xrad_solver_stats ss;
+    xrad_scheduler_stats ss;
     xrad_scheduler_get_stats(sch, &ss);
-    CHECK(ss.hemicubes > 0, "the worker's stats: %u hemicubes", ss.hemicubes);
+    /* Four requests made (the refused ones never reach the worker), each
+     * waited for: published after the first solve's publication. */
+    CHECK(ss.last.hemicubes > 0 && ss.published == 5 && ss.requested == 4,
+          "the worker's stats: %u hemicubes, %llu published, %llu requested", ss.last.hemicubes,
+          (unsigned long long)ss.published, (unsigned long long)ss.requested);
     readback_destroy(&rb);
 done:
     xrad_scheduler_destroy(&sch);
