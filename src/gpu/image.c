@@ -218,3 +218,19 @@ void gpu_image_transition(VkCommandBuffer cmd, const gpu_image *img,
     gpu_image_barrier(cmd, img, old_layout, new_layout, src_stage, src_access, dst_stage,
                       dst_access);
 }
+
+xrad_status gpu_sampler_create(struct xrad_context *ctx, VkFilter filter, VkSampler *out,
+                               xrad_error *err)
+{
+    VkSamplerCreateInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
+        .magFilter = filter,
+        .minFilter = filter,
+        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
+        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
+        .maxLod = 0,
+    };
+    return VK_CHECK(ctx, err, vkCreateSampler(ctx->device, &info, NULL, out));
+}

@@ -35,6 +35,12 @@ typedef struct gpu_image {
 xrad_status gpu_image_create(struct xrad_context *ctx, const gpu_image_desc *desc,
                              gpu_image *out, xrad_error *err);
 
+/* The one sampler kind xrad reads images with: `filter` (NEAREST, or
+ * LINEAR where the format can filter), clamped to the edge, one mip level.
+ * Destroy with vkDestroySampler. */
+xrad_status gpu_sampler_create(struct xrad_context *ctx, VkFilter filter, VkSampler *out,
+                               xrad_error *err);
+
 /* Accepts a zeroed image; zeroes it. The GPU must be done with it. */
 void gpu_image_destroy(struct xrad_context *ctx, gpu_image *img);
 

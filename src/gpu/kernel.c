@@ -16,7 +16,7 @@ xrad_status gpu_kernel_create(struct xrad_context *ctx, const gpu_kernel_desc *d
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: %u bindings, %u sets are out of range",
                          d->name, d->binding_count, sets);
     VkDescriptorSetLayoutBinding bindings[GPU_KERNEL_MAX_BINDINGS];
-    uint32_t buffers = 0, images = 0;
+    uint32_t buffers = 0, images = 0, storage_images = 0;
     for (uint32_t b = 0; b < d->binding_count; b++) {
         bindings[b] = (VkDescriptorSetLayoutBinding){
             .binding = b,
@@ -27,15 +27,20 @@ xrad_status gpu_kernel_create(struct xrad_context *ctx, const gpu_kernel_desc *d
         k->types[b] = d->types[b];
         if (d->types[b] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER)
             buffers++;
+        else if (d->types[b] == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE)
+            storage_images++;
         else
             images++;
     }
-    VkDescriptorPoolSize sizes[2];
+    VkDescriptorPoolSize sizes[3];
     uint32_t nsizes = 0;
     if (buffers)
         sizes[nsizes++] = (VkDescriptorPoolSize){VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, buffers * sets};
     if (images)
         sizes[nsizes++] = (VkDescriptorPoolSize){VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE, images * sets};
+    if (storage_images)
+        sizes[nsizes++] =
+            (VkDescriptorPoolSize){VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, storage_images * sets};
     k->binding_count = d->binding_count;
     k->set_count = sets;
     k->push_bytes = d->push_bytes;
@@ -75,35 +80,63 @@ void gpu_kernel_bind(struct xrad_context *ctx, gpu_kernel *k, uint32_t set,
     VkDescriptorBufferInfo bi[GPU_KERNEL_MAX_BINDINGS];
     VkDescriptorImageInfo ii[GPU_KERNEL_MAX_BINDINGS];
     VkWriteDescriptorSet w[GPU_KERNEL_MAX_BINDINGS];
+    uint32_t n = 0;
     for (uint32_t b = 0; b < k->binding_count; b++) {
-        w[b] = (VkWriteDescriptorSet){
+        int buffer = k->types[b] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+        if (buffer ? !r[b].buffer : !r[b].view)
+            continue;
+        w[n] = (VkWriteDescriptorSet){
             .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
             .dstSet = k->sets[set],
             .dstBinding = b,
             .descriptorCount = 1,
             .descriptorType = k->types[b],
         };
-        if (k->types[b] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) {
-            bi[b] = (VkDescriptorBufferInfo){r[b].buffer->buffer, 0, VK_WHOLE_SIZE};
-            w[b].pBufferInfo = &bi[b];
+        if (buffer) {
+            bi[n] = (VkDescriptorBufferInfo){r[b].buffer->buffer, 0, VK_WHOLE_SIZE};
+            w[n].pBufferInfo = &bi[n];
         } else {
-            ii[b] = (VkDescriptorImageInfo){VK_NULL_HANDLE, r[b].view,
-                                            VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
-            w[b].pImageInfo = &ii[b];
+            ii[n] = (VkDescriptorImageInfo){VK_NULL_HANDLE, r[b].view,
+                                            k->types[b] == VK_DESCRIPTOR_TYPE_STORAGE_IMAGE
+                                                ? VK_IMAGE_LAYOUT_GENERAL
+                                                : VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+            w[n].pImageInfo = &ii[n];
         }
+        n++;
     }
-    vkUpdateDescriptorSets(ctx->device, k->binding_count, w, 0, NULL);
+    if (n)
+        vkUpdateDescriptorSets(ctx->device, n, w, 0, NULL);
 }
 
-void gpu_kernel_dispatch(gpu_kernel *k, VkCommandBuffer cmd, uint32_t set, const void *push,
-                         uint32_t invocations, uint32_t group)
+/* The pipeline, set `set` and the push constants. */
+static void kernel_begin(gpu_kernel *k, VkCommandBuffer cmd, uint32_t set, const void *push)
 {
-    if (!invocations)
-        return;
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, k->pipeline);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, k->layout, 0, 1, &k->sets[set],
                             0, NULL);
     if (k->push_bytes)
         vkCmdPushConstants(cmd, k->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, k->push_bytes, push);
-    vkCmdDispatch(cmd, (invocations + group - 1) / group, 1, 1);
+}
+
+void gpu_kernel_dispatch_groups(gpu_kernel *k, VkCommandBuffer cmd, uint32_t set,
+                                const void *push, uint32_t groups)
+{
+    if (!groups)
+        return;
+    kernel_begin(k, cmd, set, push);
+    vkCmdDispatch(cmd, groups, 1, 1);
+}
+
+void gpu_kernel_dispatch_indirect(gpu_kernel *k, VkCommandBuffer cmd, uint32_t set,
+                                  const void *push, const gpu_buffer *indirect,
+                                  VkDeviceSize offset)
+{
+    kernel_begin(k, cmd, set, push);
+    vkCmdDispatchIndirect(cmd, indirect->buffer, offset);
+}
+
+void gpu_kernel_dispatch(gpu_kernel *k, VkCommandBuffer cmd, uint32_t set, const void *push,
+                         uint32_t invocations, uint32_t group)
+{
+    gpu_kernel_dispatch_groups(k, cmd, set, push, (invocations + group - 1) / group);
 }

@@ -232,21 +232,6 @@ static xrad_status create_render_pass(struct xrad_context *ctx, VkRenderPass *ou
     return gpu_render_pass_create(ctx, &desc, out, err);
 }
 
-static xrad_status create_sampler(struct xrad_context *ctx, VkFilter filter, VkSampler *out,
-                                  xrad_error *err)
-{
-    VkSamplerCreateInfo info = {
-        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
-        .magFilter = filter,
-        .minFilter = filter,
-        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
-        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-        .maxLod = 0,
-    };
-    return VK_CHECK(ctx, err, vkCreateSampler(ctx->device, &info, NULL, out));
-}
 
 static xrad_status check_formats(struct xrad_context *ctx, bool *linear, xrad_error *err)
 {
@@ -294,8 +279,9 @@ xrad_status display_create(struct xrad_context *ctx, display_pass **out, xrad_er
                                         &p->layout, err)) ||
         (s = gpu_descriptor_pool_create(ctx, &size, 1, 1, &p->pool, err)) ||
         (s = gpu_descriptor_set_allocate(ctx, p->pool, p->set_layout, &p->set, err)) ||
-        (s = create_sampler(ctx, VK_FILTER_NEAREST, &p->nearest, err)) ||
-        (p->linear_supported && (s = create_sampler(ctx, VK_FILTER_LINEAR, &p->linear, err))))
+        (s = gpu_sampler_create(ctx, VK_FILTER_NEAREST, &p->nearest, err)) ||
+        (p->linear_supported &&
+         (s = gpu_sampler_create(ctx, VK_FILTER_LINEAR, &p->linear, err))))
         goto fail;
     VkVertexInputBindingDescription vb = {
         .binding = 0,

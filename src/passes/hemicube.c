@@ -122,17 +122,7 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
         p->shader_bilinear =
             !(fp.optimalTilingFeatures & VK_FORMAT_FEATURE_SAMPLED_IMAGE_FILTER_LINEAR_BIT);
         VkFilter filter = p->shader_bilinear ? VK_FILTER_NEAREST : VK_FILTER_LINEAR;
-        VkSamplerCreateInfo si = {
-            .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
-            .magFilter = filter,
-            .minFilter = filter,
-            .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
-            .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-            .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-            .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-            .maxLod = 0,
-        };
-        if ((s = VK_CHECK(ctx, err, vkCreateSampler(ctx->device, &si, NULL, &p->sampler))))
+        if ((s = gpu_sampler_create(ctx, filter, &p->sampler, err)))
             return s;
     }
 

@@ -40,22 +40,13 @@ xrad_status present_create(struct xrad_context *ctx, VkFormat format, present_pa
         .stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT,
     };
     VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, PRESENT_SLOTS};
-    VkSamplerCreateInfo sampler = {
-        .sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO,
-        .magFilter = VK_FILTER_NEAREST,
-        .minFilter = VK_FILTER_NEAREST,
-        .mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST,
-        .addressModeU = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-        .addressModeV = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-        .addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE,
-    };
     xrad_status s;
     if ((s = gpu_render_pass_create(ctx, &rp, &p->render_pass, err)) ||
         (s = gpu_descriptor_layout_create(ctx, &binding, 1, &p->set_layout, err)) ||
         (s = gpu_pipeline_layout_create(ctx, &p->set_layout, 1, sizeof(struct present_push),
                                         VK_SHADER_STAGE_FRAGMENT_BIT, &p->layout, err)) ||
         (s = gpu_descriptor_pool_create(ctx, &size, 1, PRESENT_SLOTS, &p->pool, err)) ||
-        (s = VK_CHECK(ctx, err, vkCreateSampler(ctx->device, &sampler, NULL, &p->sampler))))
+        (s = gpu_sampler_create(ctx, VK_FILTER_NEAREST, &p->sampler, err)))
         goto fail;
     for (uint32_t i = 0; i < PRESENT_SLOTS; i++)
         if ((s = gpu_descriptor_set_allocate(ctx, p->pool, p->set_layout, &p->sets[i], err)))

@@ -5,7 +5,8 @@
 
 #include "core/error.h"
 #include "gpu/context.h"
-#include "gpu/pipeline.h"
+#include "gpu/cmd.h"
+#include "gpu/kernel.h"
 #include "scene/scene.h"
 #include "select.comp.h"
 #include "select_shared.h"
@@ -14,11 +15,9 @@
 struct select_pass {
     uint32_t surface_count;
     gpu_buffer power; /* float[surface_count] */
-    VkDescriptorSetLayout set_layout;
-    VkPipelineLayout layout;
-    VkPipeline power_pipeline, select_pipeline;
-    VkDescriptorPool pool;
-    VkDescriptorSet set;
+    /* Two kernels over the same bindings: the surfaces' unshot power, then
+     * the argmax and the shot (select_power.comp, select.comp). */
+    gpu_kernel power_kernel, select_kernel;
 };
 
 xrad_status select_create(struct xrad_context *ctx, uint32_t surface_count, select_pass **out,
@@ -31,30 +30,27 @@ xrad_status select_create(struct xrad_context *ctx, uint32_t surface_count, sele
     if (!p)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "select pass: out of host memory");
     p->surface_count = surface_count;
-    VkDescriptorSetLayoutBinding bindings[SELECT_BINDING_COUNT];
+    VkDescriptorType types[SELECT_BINDING_COUNT];
     for (uint32_t b = 0; b < SELECT_BINDING_COUNT; b++)
-        bindings[b] = (VkDescriptorSetLayoutBinding){
-            .binding = b,
-            .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-            .descriptorCount = 1,
-            .stageFlags = VK_SHADER_STAGE_COMPUTE_BIT,
-        };
-    VkDescriptorPoolSize size = {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, SELECT_BINDING_COUNT};
+        types[b] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    gpu_kernel_desc power = {
+        .spv = select_power_comp_spv,
+        .spv_bytes = sizeof(select_power_comp_spv),
+        .types = types,
+        .binding_count = SELECT_BINDING_COUNT,
+        .push_bytes = sizeof(struct select_push),
+        .name = "select pass (power)",
+    };
+    gpu_kernel_desc select = power;
+    select.spv = select_comp_spv;
+    select.spv_bytes = sizeof(select_comp_spv);
+    select.name = "select pass";
     xrad_status s;
     if ((s = gpu_buffer_create(ctx, (VkDeviceSize)surface_count * sizeof(float),
                                VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
                                GPU_MEM_RADIOSITY, &p->power, err)) ||
-        (s = gpu_descriptor_layout_create(ctx, bindings, SELECT_BINDING_COUNT, &p->set_layout,
-                                          err)) ||
-        (s = gpu_pipeline_layout_create(ctx, &p->set_layout, 1, sizeof(struct select_push),
-                                        VK_SHADER_STAGE_COMPUTE_BIT, &p->layout, err)) ||
-        (s = gpu_compute_pipeline_create(ctx, select_power_comp_spv,
-                                         sizeof(select_power_comp_spv), p->layout, NULL,
-                                         &p->power_pipeline, err)) ||
-        (s = gpu_compute_pipeline_create(ctx, select_comp_spv, sizeof(select_comp_spv),
-                                         p->layout, NULL, &p->select_pipeline, err)) ||
-        (s = gpu_descriptor_pool_create(ctx, &size, 1, 1, &p->pool, err)) ||
-        (s = gpu_descriptor_set_allocate(ctx, p->pool, p->set_layout, &p->set, err))) {
+        (s = gpu_kernel_create(ctx, &power, &p->power_kernel, err)) ||
+        (s = gpu_kernel_create(ctx, &select, &p->select_kernel, err))) {
         select_destroy(ctx, &p);
         return s;
     }
@@ -67,11 +63,8 @@ void select_destroy(struct xrad_context *ctx, select_pass **pass)
     if (!pass || !*pass)
         return;
     select_pass *p = *pass;
-    vkDestroyDescriptorPool(ctx->device, p->pool, NULL);
-    vkDestroyPipeline(ctx->device, p->select_pipeline, NULL);
-    vkDestroyPipeline(ctx->device, p->power_pipeline, NULL);
-    vkDestroyPipelineLayout(ctx->device, p->layout, NULL);
-    vkDestroyDescriptorSetLayout(ctx->device, p->set_layout, NULL);
+    gpu_kernel_destroy(ctx, &p->select_kernel);
+    gpu_kernel_destroy(ctx, &p->power_kernel);
     gpu_buffer_destroy(ctx, &p->power);
     free(p);
     *pass = NULL;
@@ -79,26 +72,14 @@ void select_destroy(struct xrad_context *ctx, select_pass **pass)
 
 void select_bind(struct xrad_context *ctx, select_pass *p, const select_buffers *b)
 {
-    const gpu_buffer *buffers[SELECT_BINDING_COUNT] = {
-        [SELECT_BINDING_SURFACES] = b->surfaces, [SELECT_BINDING_ELEMENTS] = b->elements,
-        [SELECT_BINDING_BU] = b->Bu,             [SELECT_BINDING_POWER] = &p->power,
-        [SELECT_BINDING_SHOOTERS] = b->shooters, [SELECT_BINDING_STATUS] = b->status,
-        [SELECT_BINDING_SHOT] = b->shot,
+    const gpu_kernel_resource r[SELECT_BINDING_COUNT] = {
+        [SELECT_BINDING_SURFACES] = {b->surfaces}, [SELECT_BINDING_ELEMENTS] = {b->elements},
+        [SELECT_BINDING_BU] = {b->Bu},             [SELECT_BINDING_POWER] = {&p->power},
+        [SELECT_BINDING_SHOOTERS] = {b->shooters}, [SELECT_BINDING_STATUS] = {b->status},
+        [SELECT_BINDING_SHOT] = {b->shot},
     };
-    VkDescriptorBufferInfo info[SELECT_BINDING_COUNT];
-    VkWriteDescriptorSet writes[SELECT_BINDING_COUNT];
-    for (uint32_t i = 0; i < SELECT_BINDING_COUNT; i++) {
-        info[i] = (VkDescriptorBufferInfo){buffers[i]->buffer, 0, VK_WHOLE_SIZE};
-        writes[i] = (VkWriteDescriptorSet){
-            .sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET,
-            .dstSet = p->set,
-            .dstBinding = i,
-            .descriptorCount = 1,
-            .descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-            .pBufferInfo = &info[i],
-        };
-    }
-    vkUpdateDescriptorSets(ctx->device, SELECT_BINDING_COUNT, writes, 0, NULL);
+    gpu_kernel_bind(ctx, &p->power_kernel, 0, r);
+    gpu_kernel_bind(ctx, &p->select_kernel, 0, r);
 }
 
 void select_record(select_pass *p, VkCommandBuffer cmd, const select_params *params)
@@ -120,21 +101,11 @@ void select_record(select_pass *p, VkCommandBuffer cmd, const select_params *par
         .group_elements = params->group_elements,
         .shot_first = params->shot_first,
     };
-    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->layout, 0, 1, &p->set, 0,
-                            NULL);
-    vkCmdPushConstants(cmd, p->layout, VK_SHADER_STAGE_COMPUTE_BIT, 0, sizeof(push), &push);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->power_pipeline);
-    vkCmdDispatch(cmd, (p->surface_count + SELECT_POWER_GROUP - 1) / SELECT_POWER_GROUP, 1, 1);
+    gpu_kernel_dispatch(&p->power_kernel, cmd, 0, &push, p->surface_count, SELECT_POWER_GROUP);
     /* The powers are complete before the argmax reads them. */
-    VkMemoryBarrier barrier = {
-        .sType = VK_STRUCTURE_TYPE_MEMORY_BARRIER,
-        .srcAccessMask = VK_ACCESS_SHADER_WRITE_BIT,
-        .dstAccessMask = VK_ACCESS_SHADER_READ_BIT,
-    };
-    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                         VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &barrier, 0, NULL, 0, NULL);
-    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p->select_pipeline);
-    vkCmdDispatch(cmd, 1, 1, 1);
+    gpu_memory_barrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_WRITE_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT);
+    gpu_kernel_dispatch_groups(&p->select_kernel, cmd, 0, &push, 1);
 }
 
 uint32_t select_shot_capacity(const xrad_scene *scene)
