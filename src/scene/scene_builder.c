@@ -142,7 +142,7 @@ xrad_status xrad_scene_builder_create(const xrad_scene_builder_desc *desc,
     xrad_scene_builder_desc d = desc ? *desc : (xrad_scene_builder_desc){0};
     const char *name = d.name ? d.name : "<builder>";
     if (d.density_scale != 0 && !(d.density_scale > 0 && d.density_scale <= 16))
-        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: density scale %g is outside (0, 16]", name,
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: density_scale %g is outside (0, 16]", name,
                          d.density_scale);
     xrad_scene_builder *b = calloc(1, sizeof(*b));
     if (!b || !(b->sc = calloc(1, sizeof(xrad_scene)))) {

@@ -278,7 +278,7 @@ static void errors(void)
     xrad_scene_builder_destroy(&b);
     CHECK(xrad_scene_builder_create(&(xrad_scene_builder_desc){.density_scale = 40}, &b,
                                     &err) == XRAD_ERROR_INPUT &&
-              !b && strstr(err.message, "density scale"),
+              !b && strstr(err.message, "density_scale"),
           "density scale: %s", err.message);
 }
 

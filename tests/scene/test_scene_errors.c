@@ -52,6 +52,25 @@ int main(void)
         xrad_scene_destroy(NULL);
     }
 
+    /* A density_scale out of range in the load options is refused before
+     * the scene is built; under AddressSanitizer (tools/sanitize.sh) this
+     * also holds the path to freeing the JSON tree and the builder (issue
+     * 17.10: it leaked both). */
+    {
+        const char *ok = ROOM_WITH("\"material\": \"white\", " FLOOR_QUAD);
+        static const double bad[] = {100, -1, 17};
+        for (size_t i = 0; i < sizeof(bad) / sizeof(bad[0]); i++) {
+            xrad_scene *scene = NULL;
+            xrad_error err = {0};
+            xrad_status st = xrad_scene_parse_with(
+                ok, strlen(ok), "case.json", &(xrad_scene_load_desc){.density_scale = bad[i]},
+                &scene, &err);
+            CHECK(st == XRAD_ERROR_INPUT && !scene && contains(err.message, "case.json") &&
+                      contains(err.message, "density_scale"),
+                  "density_scale %g: status %d, '%s'", bad[i], st, err.message);
+        }
+    }
+
     expect("malformed JSON",
            "{" MAT ",\n \"objects\": [{\"name\": \"room\",\n   \"surfaces\": [}]}", XRAD_ERROR_INPUT,
            WANT("line 3", "column", "malformed JSON"));
