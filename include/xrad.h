@@ -188,7 +188,7 @@ typedef struct xrad_mesh_desc {
  * convex quad become one quad surface (one chart of the atlas; a quad
  * split in two comes back whole); every other triangle is a surface of
  * its own. Triangles of zero area are skipped and counted in the scene's
- * info. */
+ * info. xrad_scene_get_mesh_corners tells where each triangle went. */
 XRAD_API xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_desc *m,
                                                  xrad_error *err);
 
@@ -219,6 +219,7 @@ typedef struct xrad_scene_info {
     double planarise_max_offset;        /* m, largest vertex move that took */
     uint32_t triangles;                 /* surfaces that are triangles (the rest are quads) */
     uint32_t skipped_triangles;         /* zero-area mesh triangles left out */
+    uint32_t meshes;                    /* triangle meshes (xrad_scene_get_mesh) */
 } xrad_scene_info;
 
 XRAD_API void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info);
@@ -322,6 +323,67 @@ typedef struct xrad_surface_info {
 /* Surface `index` (0 .. info.surfaces - 1); XRAD_ERROR_INPUT out of range. */
 XRAD_API xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
                                             xrad_surface_info *info, xrad_error *err);
+
+/* A triangle mesh as the scene took it (xrad_scene_builder_add_mesh), so
+ * that an engine can draw its own copy of it with xrad's radiosity, though
+ * xrad joined pairs of its triangles into quads, turned each lone triangle
+ * to put its longest edge first and left zero-area ones out. */
+typedef struct xrad_mesh_info {
+    const char *name;           /* xrad_mesh_desc.name; valid while the scene lives */
+    uint32_t object;            /* index of its object */
+    uint32_t triangle_count;    /* as given, skipped ones included */
+    uint32_t skipped_triangles; /* zero-area triangles, on no surface */
+} xrad_mesh_info;
+
+/* Mesh `index` (0 .. info.meshes - 1), in the order they were added;
+ * XRAD_ERROR_INPUT out of range. */
+XRAD_API xrad_status xrad_scene_get_mesh(const xrad_scene *scene, uint32_t index,
+                                         xrad_mesh_info *info, xrad_error *err);
+
+/* One corner of a mesh triangle: the surface the triangle is part of and
+ * the vertex attribute `a` of the surface's corner the vertex is (above,
+ * xrad_surface_info): (s, t, 1) at a corner (s, t) of a quad or of a
+ * triangle's base, (0, 1, 0) at a triangle's apex. A skipped (zero-area)
+ * triangle has surface UINT32_MAX and a = 0. */
+typedef struct xrad_mesh_corner {
+    float a[3];
+    uint32_t surface;
+} xrad_mesh_corner;
+
+/* Fills corners[3 t + k] for corner k of triangle t of mesh `mesh`, the
+ * vertex indices[3 t + k] of the triangles as given; corner_count must be
+ * 3 x triangle_count (else XRAD_ERROR_INPUT naming the field, as for a
+ * mesh out of range). To draw the mesh with xrad's radiosity, draw its
+ * triangles unindexed (or with their vertices split per triangle): a
+ * triangle's vertex k takes corners[3 t + k].a as the attribute `a` of the
+ * GLSL above, and the triangle, flat, its surface's tile_x, tile_y, nu and
+ * nv (xrad_scene_get_surface) as `tile` and `n`; skip the triangles of
+ * surface UINT32_MAX. The vertex positions stay the engine's, drawn in
+ * its object's pose (xrad_scene_get_object_pose). `a` is exact at the
+ * vertices; inside, a lone triangle gets (s, t) exactly, as does a joined
+ * pair whose quad is a parallelogram. A joined pair's two triangles split
+ * the quad along p1 p3 (not p0 p2 as xrad draws it), so in a quad that is
+ * no parallelogram they read slightly different points than xrad's own
+ * drawing does, still continuous across every edge.
+ *
+ * A model file xrad loads (xrad_scene_load of a .gltf, .glb, .obj or .ply,
+ * or a scene file's "mesh": {"file": ...}) is added through the same
+ * xrad_scene_builder_add_mesh, one mesh per mesh instance of the file's
+ * node tree, named NAME.i: i counts the instances of that file from 0,
+ * NAME is the scene file surface's "name" (a model loaded by itself: the
+ * node's name, "node" if it has none), cut to 40 characters. Instances come
+ * in assimp's node order, depth first from the root (or the scene
+ * file's "node"): a node's meshes (aiNode.mMeshes in order), then its
+ * children in order; scene-file placements in file order. A mesh's triangles are the assimp mesh's
+ * three-index faces in face order after aiProcess_Triangulate |
+ * aiProcess_JoinIdenticalVertices | aiProcess_SortByPType (a mesh of only
+ * points or lines is no instance), corner k the face's mIndices[k], except
+ * under a mirroring node transform (negative determinant), where corners
+ * 1 and 2 are the face's mIndices[2] and mIndices[1] (the front side
+ * kept). */
+XRAD_API xrad_status xrad_scene_get_mesh_corners(const xrad_scene *scene, uint32_t mesh,
+                                                 xrad_mesh_corner *corners,
+                                                 uint32_t corner_count, xrad_error *err);
 
 /* Displaces dynamic object `index` by `offset` (m, world) on top of its
  * animation, at every scene time: moving an object by hand. A solver sees

@@ -117,6 +117,23 @@ typedef struct surface {
                       pass, solvers/hemicube_clusters.h) */
 } surface;
 
+/* Where the corners of a mesh's triangle went (xrad_scene_get_mesh_corners):
+ * the surface it became (UINT32_MAX: skipped, zero area) and, for its
+ * corner k (the vertex indices[3 t + k] as given), the surface's corner
+ * slot 0..3 (p[slot]) at that vertex. */
+typedef struct mesh_triangle {
+    uint32_t surface;
+    uint8_t slot[3];
+} mesh_triangle;
+
+/* A triangle mesh as xrad_scene_builder_add_mesh took it. */
+typedef struct scene_mesh {
+    char name[SCENE_NAME_MAX];
+    uint32_t object;
+    uint32_t triangle_count, skipped_triangles;
+    mesh_triangle *triangles; /* triangle_count */
+} scene_mesh;
+
 /* Elements are stored surface by surface, object by object, row-major
  * within a surface: index = surface.first_element + j * nu + i. */
 typedef struct element {
@@ -160,6 +177,8 @@ struct xrad_scene {
     char quality_value[SCENE_MAX_QUALITY][64];
     double density_scale; /* what the densities were multiplied by */
     uint32_t skipped_triangles; /* zero-area mesh triangles left out */
+    uint32_t mesh_count;
+    scene_mesh *meshes; /* every xrad_scene_builder_add_mesh, in order */
     uint32_t warning_count;
     char **warnings; /* xrad_scene_warning */
 };

@@ -292,5 +292,9 @@ void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info)
         }
     }
     info->skipped_triangles = scene->skipped_triangles;
+    info->meshes = scene->mesh_count;
+    bytes += scene->mesh_count * sizeof(scene_mesh);
+    for (uint32_t k = 0; k < scene->mesh_count; k++)
+        bytes += scene->meshes[k].triangle_count * sizeof(mesh_triangle);
     info->cpu_bytes = bytes;
 }

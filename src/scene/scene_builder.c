@@ -26,7 +26,7 @@ struct xrad_scene_builder {
     double density;       /* scene default, per m, scaled */
     double density_scale; /* every density given times this */
     uint64_t elements;    /* so far, for the limit */
-    uint32_t material_cap, object_cap, surface_cap;
+    uint32_t material_cap, object_cap, surface_cap, mesh_cap;
     bool in_object;   /* objects[object_count - 1] takes surfaces */
     bool has_camera;
     bool failed;      /* a call failed: only destroy is left */
@@ -614,7 +614,8 @@ static vec3 mesh_point(const xrad_mesh_desc *m, uint32_t v)
 }
 
 /* The quad of triangles t (a b c, the shared edge b c) and u (c b d): a b d c,
- * when coplanar and convex (scene_quad_setup says). */
+ * when coplanar and convex (scene_quad_setup says). Written q = a c d b:
+ * join_slots gives the slot each triangle's corner lands on. */
 static bool join_pair(const xrad_mesh_desc *m, uint32_t t, int slot_t, uint32_t u, int slot_u,
                       vec3 q[4])
 {
@@ -635,6 +636,20 @@ static bool join_pair(const xrad_mesh_desc *m, uint32_t t, int slot_t, uint32_t 
     surface probe;
     char why[256];
     return scene_quad_setup(&probe, q, why, sizeof(why));
+}
+
+/* The quad slots of join_pair's corners: t's corner slot_t is c (q[1]),
+ * slot_t + 1 is b (q[3]), slot_t + 2 is a (q[0]); u's corner slot_u is b
+ * (its edge b -> c), slot_u + 1 is c, slot_u + 2 is d (q[2]). The quad
+ * keeps this order (scene_quad_setup neither rotates nor reorders). */
+static void join_slots(int slot_t, int slot_u, uint8_t st[3], uint8_t su[3])
+{
+    st[slot_t] = 1;
+    st[(slot_t + 1) % 3] = 3;
+    st[(slot_t + 2) % 3] = 0;
+    su[slot_u] = 3;
+    su[(slot_u + 1) % 3] = 1;
+    su[(slot_u + 2) % 3] = 2;
 }
 
 xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_desc *m,
@@ -694,7 +709,9 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
     uint32_t *partner = malloc(nt * sizeof(uint32_t)); /* joined triangle, or UINT32_MAX */
     int8_t *partner_slot = malloc(nt);
     uint8_t *degenerate = calloc(nt, 1);
-    if (!weld || !order || !edges || !partner || !partner_slot || !degenerate) {
+    /* Where each triangle went (xrad_scene_get_mesh_corners). */
+    mesh_triangle *went = malloc(nt * sizeof(mesh_triangle));
+    if (!weld || !order || !edges || !partner || !partner_slot || !degenerate || !went) {
         st = out_of_memory(b, err);
         goto done;
     }
@@ -768,10 +785,12 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
         }
     }
 
-    uint32_t named = 0;
+    uint32_t named = 0, skipped = 0;
     for (uint32_t t = 0; t < nt && !st; t++) {
         if (degenerate[t]) {
             b->sc->skipped_triangles++;
+            skipped++;
+            went[t] = (mesh_triangle){.surface = UINT32_MAX};
             continue;
         }
         if (partner[t] != UINT32_MAX && partner[t] < t)
@@ -792,8 +811,11 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
             }
             st = scene_builder_quad(b, &qd, sw, "indices", density, err);
             if (!st) {
-                b->sc->surfaces[b->sc->surface_count - 1].mesh = true;
-                b->sc->surfaces[b->sc->surface_count - 1].closed = closed;
+                uint32_t si = b->sc->surface_count - 1, u = partner[t];
+                b->sc->surfaces[si].mesh = true;
+                b->sc->surfaces[si].closed = closed;
+                went[t].surface = went[u].surface = si;
+                join_slots(partner_slot[t], partner_slot[u], went[t].slot, went[u].slot);
             }
             continue;
         }
@@ -813,7 +835,27 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
         s->material = mat;
         s->mesh = true;
         s->closed = closed;
+        /* scene_triangle_setup turns the corners (the longest edge first):
+         * each is found among p0 p1 p2, which are distinct. */
+        went[t] = (mesh_triangle){.surface = b->sc->surface_count};
+        for (int k = 0; k < 3; k++)
+            for (uint8_t j = 0; j < 3; j++)
+                if (!memcmp(&s->p[j], &p[k], sizeof(vec3)))
+                    went[t].slot[k] = j;
         st = finish_surface(b, err, sw, "density", density, NULL);
+    }
+    if (!st && !grow((void **)&b->sc->meshes, &b->mesh_cap, b->sc->mesh_count + 1,
+                     sizeof(scene_mesh)))
+        st = out_of_memory(b, err);
+    if (!st) {
+        scene_mesh *sm = &b->sc->meshes[b->sc->mesh_count++];
+        memset(sm, 0, sizeof(*sm));
+        snprintf(sm->name, sizeof(sm->name), "%s", m->name);
+        sm->object = b->sc->object_count - 1;
+        sm->triangle_count = nt;
+        sm->skipped_triangles = skipped;
+        sm->triangles = went;
+        went = NULL;
     }
 done:
     free(weld);
@@ -822,6 +864,7 @@ done:
     free(partner);
     free(partner_slot);
     free(degenerate);
+    free(went);
     return st;
 }
 

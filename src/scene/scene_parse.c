@@ -951,6 +951,9 @@ void xrad_scene_destroy(xrad_scene **scene)
     free(sc->materials);
     free(sc->surfaces);
     free(sc->elements);
+    for (uint32_t k = 0; k < sc->mesh_count; k++)
+        free(sc->meshes[k].triangles);
+    free(sc->meshes);
     for (uint32_t k = 0; k < sc->warning_count; k++)
         free(sc->warnings[k]);
     free(sc->warnings);

@@ -161,6 +161,64 @@ xrad_status xrad_scene_get_surface(const xrad_scene *scene, uint32_t index,
     return XRAD_OK;
 }
 
+xrad_status xrad_scene_get_mesh(const xrad_scene *scene, uint32_t index, xrad_mesh_info *info,
+                                xrad_error *err)
+{
+    memset(info, 0, sizeof(*info));
+    if (!scene || index >= scene->mesh_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: field 'index': mesh %u does not exist (%u meshes)",
+                         scene ? scene->path : "scene", index, scene ? scene->mesh_count : 0);
+    const scene_mesh *m = &scene->meshes[index];
+    info->name = m->name;
+    info->object = m->object;
+    info->triangle_count = m->triangle_count;
+    info->skipped_triangles = m->skipped_triangles;
+    return XRAD_OK;
+}
+
+xrad_status xrad_scene_get_mesh_corners(const xrad_scene *scene, uint32_t mesh,
+                                        xrad_mesh_corner *corners, uint32_t corner_count,
+                                        xrad_error *err)
+{
+    if (!scene || mesh >= scene->mesh_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: field 'mesh': mesh %u does not exist (%u meshes)",
+                         scene ? scene->path : "scene", mesh, scene ? scene->mesh_count : 0);
+    const scene_mesh *m = &scene->meshes[mesh];
+    if (corner_count != 3ull * m->triangle_count)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: mesh '%s': field 'corner_count': must be 3 x %u triangles = %llu, "
+                         "got %u",
+                         scene->path, m->name, m->triangle_count,
+                         3ull * m->triangle_count, corner_count);
+    if (!corners)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: mesh '%s': field 'corners': NULL",
+                         scene->path, m->name);
+    /* Corner slot k of a surface: (s, t) = (0, 0), (1, 0), (1, 1), (0, 1)
+     * (xrad.h, before xrad_surface_info). */
+    static const float st[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    for (uint32_t t = 0; t < m->triangle_count; t++) {
+        const mesh_triangle *mt = &m->triangles[t];
+        bool triangle = mt->surface != UINT32_MAX && scene->surfaces[mt->surface].triangle;
+        for (int k = 0; k < 3; k++) {
+            xrad_mesh_corner *c = &corners[3 * t + k];
+            *c = (xrad_mesh_corner){.surface = mt->surface};
+            if (mt->surface == UINT32_MAX)
+                continue;
+            uint8_t slot = mt->slot[k];
+            if (triangle && slot == 2) {
+                c->a[1] = 1; /* the apex: w = 0 */
+                continue;
+            }
+            c->a[0] = st[slot][0];
+            c->a[1] = st[slot][1];
+            c->a[2] = 1;
+        }
+    }
+    return XRAD_OK;
+}
+
 xrad_status scene_check_pose(const xrad_scene *scene, uint32_t index, const double matrix[16],
                              xform *out, xrad_error *err)
 {
