@@ -246,6 +246,10 @@ typedef struct xrad_viewer_frame_desc {
     /* Non-NULL: after the frame, its image: .exr linear, .png tone-mapped
      * as the window shows it. */
     const char *screenshot;
+    /* Non-NULL: lines of text ('\n' between them; printable ASCII) drawn
+     * on a dark box over the window's top-left corner, not in the
+     * screenshot. */
+    const char *overlay;
 } xrad_viewer_frame_desc;
 
 /* One frame with the scheduler's front atlas (begin_frame and end_frame

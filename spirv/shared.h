@@ -37,4 +37,11 @@ struct present_push {
     uint pad0, pad1;
 };
 
+/* Overlay (src/passes/overlay.c, spirv/overlay.vert|frag): text quads in
+ * pixels over a window's image. clip = pixel x scale + offset. */
+struct overlay_push {
+    float scale_x, scale_y;   /* zoom x 2 / framebuffer size */
+    float offset_x, offset_y; /* -1 + 2 x origin / framebuffer size */
+};
+
 #endif

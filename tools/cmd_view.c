@@ -1,7 +1,7 @@
 /* xrad view SCENE: the real-time loop in a window (GLFW), on the public API
  * alone (include/xrad_vulkan.h): redistribution runs on the scheduler's
- * thread, display here through xrad's viewer; the window title shows both
- * rates and the pass times. */
+ * thread, display here through xrad's viewer; an overlay on the image
+ * shows both rates, the pass times, the method and the keys. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,6 +64,7 @@ static void help(void)
            "  --exposure E      display scale factor; 0 = auto from the first solution [0]\n"
            "  --nearest         show elements as flat squares\n"
            "  --no-vsync        present without waiting for the display's refresh\n"
+           "  --no-overlay      start without the figures on screen (H shows them)\n"
            "  --screenshot FILE with --frames: save the last frame (.png tone-mapped as shown,\n"
            "                    .exr linear) and exit\n"
            "  --frames N        show N frames, frame k at scene time T + k / F, the last one\n"
@@ -78,23 +79,26 @@ static void help(void)
            "display or the device cannot present to it.\n");
 }
 
+static const char keys_text[] =
+    "  left mouse drag        look around\n"
+    "  W A S D, Q E           move forward, left, back, right; down, up\n"
+    "  mouse wheel            movement speed up / down\n"
+    "  Space                  pause / resume the animation\n"
+    "  N                      one frame forward (1/fps) while paused\n"
+    "  1 2 3                  method: progressive (restart), incremental, cross\n"
+    "  G                      grab the next dynamic object (after the last: release)\n"
+    "  arrows, PgUp PgDn      move the grabbed object: on the ground, down, up\n"
+    "  + -                    exposure up / down\n"
+    "  V                      elements (nearest) / interpolated\n"
+    "  R                      camera back to the scene's\n"
+    "  F2                     screenshot to out/view-NNNN.png\n"
+    "  H                      overlay off / on\n"
+    "  ? F1                   this list, on screen and on stdout\n"
+    "  Esc                    quit\n";
+
 static void keymap(void)
 {
-    printf("xrad view keys:\n"
-           "  left mouse drag        look around\n"
-           "  W A S D, Q E           move forward, left, back, right; down, up\n"
-           "  mouse wheel            movement speed up / down\n"
-           "  Space                  pause / resume the animation\n"
-           "  N                      one frame forward (1/fps) while paused\n"
-           "  1 2 3                  method: progressive (restart), incremental, cross\n"
-           "  G                      grab the next dynamic object (after the last: release)\n"
-           "  arrows, PgUp PgDn      move the grabbed object: on the ground, down, up\n"
-           "  + -                    exposure up / down\n"
-           "  V                      elements (nearest) / interpolated\n"
-           "  R                      camera back to the scene's\n"
-           "  F2                     screenshot to out/view-NNNN.png\n"
-           "  ? F1                   this list\n"
-           "  Esc                    quit\n");
+    printf("xrad view keys:\n%s", keys_text);
     fflush(stdout);
 }
 
@@ -102,7 +106,7 @@ typedef struct view_opts {
     const char *scene, *method, *device, *screenshot;
     double time, fps, speed, exposure;
     uint32_t width, height, frames, resize_at, resize_w, resize_h;
-    int nearest, no_vsync;
+    int nearest, no_vsync, no_overlay;
     method_settings m;
 } view_opts;
 
@@ -152,6 +156,8 @@ static int parse(int argc, char **argv, view_opts *o)
             o->nearest = 1;
         } else if (!strcmp(opt, "no-vsync")) {
             o->no_vsync = 1;
+        } else if (!strcmp(opt, "no-overlay")) {
+            o->no_overlay = 1;
         } else if (!strcmp(opt, "device")) {
             o->device = cli_value(&a);
         } else if (!method_solver_option(&a, opt, &o->m)) {
@@ -186,6 +192,7 @@ typedef struct view_state {
     double move_speed; /* m/s */
     double exposure;   /* 0: automatic (the viewer's) */
     bool paused, step, nearest, screenshot_key;
+    bool overlay, overlay_keys; /* figures on screen; the key list with them */
     xrad_method method;
     int grabbed;       /* object index, -1: none */
     double offsets[VIEW_MAX_OBJECTS][3];
@@ -238,6 +245,14 @@ static void grab_next(view_state *st)
     st->grabbed = -1;
 }
 
+/* ? and F1: the key list on screen (again: off) and on stdout. */
+static void show_keys(view_state *st)
+{
+    st->overlay_keys = !st->overlay_keys;
+    st->overlay |= st->overlay_keys;
+    keymap();
+}
+
 static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
 {
     (void)scancode;
@@ -255,7 +270,8 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     case GLFW_KEY_G: grab_next(st); break;
     case GLFW_KEY_V: st->nearest = !st->nearest; break;
     case GLFW_KEY_R: st->cam = st->home; break;
-    case GLFW_KEY_F1: keymap(); break;
+    case GLFW_KEY_F1: show_keys(st); break;
+    case GLFW_KEY_H: st->overlay = !st->overlay; break;
     case GLFW_KEY_F2: st->screenshot_key = true; break;
     case GLFW_KEY_KP_ADD: st->exposure *= 1.25; break;
     case GLFW_KEY_KP_SUBTRACT: st->exposure /= 1.25; break;
@@ -268,7 +284,7 @@ static void on_char(GLFWwindow *w, unsigned int c)
 {
     view_state *st = glfwGetWindowUserPointer(w);
     if (c == '?')
-        keymap();
+        show_keys(st);
     else if (c == '+' || c == '=')
         st->exposure *= 1.25;
     else if (c == '-')
@@ -340,44 +356,53 @@ static void poll_motion(view_state *st, double dt)
     xrad_scene_set_offset(st->scene, (uint32_t)st->grabbed, o, &err);
 }
 
-/* ---------------------------------------------------------------- title */
+/* -------------------------------------------------------------- overlay */
 
-/* The n largest of `passes`, "name ms" joined. */
-static void top_passes(const xrad_pass_time *passes, uint32_t count, int n, char *out,
-                       size_t size)
+/* `passes` as "name ms" joined, largest first, `per_line` a line, each
+ * line after the first indented. */
+static size_t pass_lines(const xrad_pass_time *passes, uint32_t count, int per_line, char *out,
+                         size_t size)
 {
     bool used[XRAD_MAX_PASSES] = {0};
     size_t len = 0;
     out[0] = 0;
-    for (int k = 0; k < n; k++) {
+    for (uint32_t k = 0; k < count; k++) {
         int best = -1;
         for (uint32_t i = 0; i < count; i++)
             if (!used[i] && (best < 0 || passes[i].ms > passes[best].ms))
                 best = (int)i;
-        if (best < 0)
-            break;
         used[best] = true;
-        len += (size_t)snprintf(out + len, len < size ? size - len : 0, "%s%s %.1f",
-                                k ? ", " : "", passes[best].name, passes[best].ms);
+        const char *sep = !k ? "" : k % (uint32_t)per_line ? ", " : "\n    ";
+        len += (size_t)snprintf(out + len, len < size ? size - len : 0, "%s%s %.1f", sep,
+                                passes[best].name, passes[best].ms);
     }
+    return len;
 }
 
-static void update_title(view_state *st, const char *name, xrad_scheduler *sch, xrad_viewer *vw)
+/* What the overlay shows: the scene and method, display and redistribution
+ * rates, every pass's GPU ms (sliding means), and the keys when asked. */
+static void overlay_text(const view_state *st, const char *name, xrad_scheduler *sch,
+                         xrad_viewer *vw, char *out, size_t size)
 {
     xrad_scheduler_stats ss;
     xrad_viewer_stats vs;
     xrad_scheduler_get_stats(sch, &ss);
     xrad_viewer_get_stats(vw, &vs);
-    char solver[256], display[128], title[640];
-    top_passes(ss.passes, ss.pass_count, 3, solver, sizeof(solver));
-    top_passes(vs.passes, vs.pass_count, 2, display, sizeof(display));
-    snprintf(title, sizeof(title),
-             "xrad view: %s | %s | display %.1f fps | redistribution %.0f ms (%s)%s | GPU ms: "
-             "%s; %s",
-             name, xrad_method_name(st->method), vs.frame_ms > 0 ? 1000.0 / vs.frame_ms : 0.0,
-             ss.frame_ms, ss.published ? "running" : "first solve",
-             st->paused ? " | paused" : "", solver, display);
-    glfwSetWindowTitle(st->window, title);
+    char solver[1024], display[256];
+    pass_lines(ss.passes, ss.pass_count, 4, solver, sizeof(solver));
+    pass_lines(vs.passes, vs.pass_count, 4, display, sizeof(display));
+    snprintf(out, size,
+             "%s   method %s%s\n"
+             "display %.1f fps (%.1f ms a frame)\n"
+             "redistribution %.0f ms (%s), solution at t = %.2f s\n"
+             "GPU ms, redistribution:\n    %s\n"
+             "GPU ms, display:\n    %s\n"
+             "%s",
+             name, xrad_method_name(st->method), st->paused ? "   paused" : "",
+             vs.frame_ms > 0 ? 1000.0 / vs.frame_ms : 0.0, vs.frame_ms, ss.frame_ms,
+             ss.published ? "running" : "first solve", vs.solution_time,
+             ss.pass_count ? solver : "(none yet)", vs.pass_count ? display : "(none yet)",
+             st->overlay_keys ? keys_text : "H: overlay off   ?: keys\n");
 }
 
 static void print_summary(xrad_scheduler *sch, xrad_viewer *vw)
@@ -438,7 +463,8 @@ static xrad_status run(const view_opts *o, view_state *st, xrad_scheduler *sch, 
 {
     char name[128];
     cli_basename_noext(o->scene, name, sizeof(name));
-    double anim = o->time, last = glfwGetTime(), last_title = 0;
+    double anim = o->time, last = glfwGetTime(), last_text = -1;
+    char text[4096] = "";
     view_request req;
     memset(&req, 0, sizeof(req));
     uint64_t requests = 0, serial = 0;
@@ -493,6 +519,11 @@ static xrad_status run(const view_opts *o, view_state *st, xrad_scheduler *sch, 
             fflush(stdout);
         }
         st->screenshot_key = false;
+        /* Twice a second: figures that change every frame cannot be read. */
+        if (st->overlay && now - last_text > 0.5) {
+            overlay_text(st, name, sch, vw, text, sizeof(text));
+            last_text = now;
+        }
         int fw, fh;
         glfwGetFramebufferSize(st->window, &fw, &fh);
         xrad_viewer_frame_desc d = {
@@ -502,6 +533,7 @@ static xrad_status run(const view_opts *o, view_state *st, xrad_scheduler *sch, 
             .width = (uint32_t)fw,
             .height = (uint32_t)fh,
             .screenshot = screenshot,
+            .overlay = st->overlay ? text : NULL,
         };
         v3_to(st->cam.position, d.camera.position);
         v3_to(st->cam.look_at, d.camera.look_at);
@@ -513,10 +545,6 @@ static xrad_status run(const view_opts *o, view_state *st, xrad_scheduler *sch, 
             xrad_viewer_stats vs;
             xrad_viewer_get_stats(vw, &vs);
             st->exposure = vs.exposure; /* measured: + and - scale it from here */
-        }
-        if (now - last_title > 0.5) {
-            update_title(st, name, sch, vw);
-            last_title = now;
         }
         if (last_frame)
             break;
@@ -583,7 +611,10 @@ int cmd_view(int argc, char **argv)
     }
     glfwWindowHint(GLFW_CLIENT_API, GLFW_NO_API);
     glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
-    window = glfwCreateWindow((int)w, (int)h, "xrad view", NULL, NULL);
+    char base[128], title[160];
+    cli_basename_noext(o.scene, base, sizeof(base));
+    snprintf(title, sizeof(title), "xrad view: %s", base);
+    window = glfwCreateWindow((int)w, (int)h, title, NULL, NULL);
     if (!window) {
         fprintf(stderr, "xrad view: cannot open a window: %s\n", glfw_message);
         goto done;
@@ -603,6 +634,7 @@ int cmd_view(int argc, char **argv)
         .cam = cam,
         .exposure = o.exposure,
         .nearest = o.nearest,
+        .overlay = !o.no_overlay,
         .method = o.m.solver.method,
         .grabbed = -1,
     };

@@ -6,7 +6,7 @@ cd "$(dirname "$0")/.."
 
 packages="meson ninja-build pkg-config gcc g++ python3 glslang-tools libvulkan-dev \
 mesa-vulkan-drivers vulkan-validationlayers libglfw3-dev libopenexr-dev libcjson-dev \
-libpng-dev libassimp-dev assimp-testmodels libembree-dev xvfb xauth"
+libpng-dev libstb-dev libassimp-dev assimp-testmodels libembree-dev xvfb xauth"
 
 missing=""
 for p in $packages; do

@@ -178,6 +178,13 @@ xrad_status gpu_graphics_pipeline_create(struct xrad_context *ctx, const gpu_gra
     VkPipelineColorBlendAttachmentState attachments[MAX_COLOR_ATTACHMENTS];
     for (uint32_t i = 0; i < d->color_attachments; i++)
         attachments[i] = (VkPipelineColorBlendAttachmentState){
+            .blendEnable = d->blend,
+            .srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA,
+            .dstColorBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA,
+            .colorBlendOp = VK_BLEND_OP_ADD,
+            .srcAlphaBlendFactor = VK_BLEND_FACTOR_ONE,
+            .dstAlphaBlendFactor = VK_BLEND_FACTOR_ONE_MINUS_SRC_ALPHA,
+            .alphaBlendOp = VK_BLEND_OP_ADD,
             .colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT |
                               VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT,
         };

@@ -62,7 +62,8 @@ xrad_status gpu_render_pass_create(struct xrad_context *ctx, const gpu_render_pa
                                    VkRenderPass *out, xrad_error *err);
 
 /* A graphics pipeline for one subpass: triangle lists unless `topology`
- * says otherwise, no blending, viewport and scissor dynamic. */
+ * says otherwise, no blending unless `blend`, viewport and scissor
+ * dynamic. */
 typedef struct gpu_graphics_desc {
     const uint32_t *vert;
     size_t vert_bytes;
@@ -81,6 +82,7 @@ typedef struct gpu_graphics_desc {
     VkCompareOp depth_compare;
     VkSampleCountFlagBits samples; /* 0 means 1 */
     uint32_t color_attachments;
+    bool blend; /* colour over the attachment by its alpha: src a + dst (1 - a) */
     VkPipelineLayout layout;
     VkRenderPass render_pass;
     uint32_t subpass;

@@ -134,5 +134,7 @@ void present_record(struct xrad_context *ctx, present_pass *pass, VkCommandBuffe
     vkCmdSetViewport(cmd, 0, 1, &viewport);
     vkCmdSetScissor(cmd, 0, 1, &scissor);
     vkCmdDraw(cmd, 3, 1, 0, 0);
+    if (draw->overlay && draw->text)
+        overlay_record(draw->overlay, cmd, draw->text);
     vkCmdEndRenderPass(cmd);
 }

@@ -12,6 +12,7 @@
 #include <vulkan/vulkan.h>
 
 #include "gpu/image.h"
+#include "passes/overlay.h"
 #include "xrad.h"
 
 struct xrad_context;
@@ -36,6 +37,10 @@ typedef struct present_draw {
     double exposure;           /* > 0 */
     uint32_t slot;             /* < PRESENT_SLOTS: the frame slot, whose last recording has
                                   completed */
+    /* Non-NULL: text drawn over the image (an overlay made for
+     * present_render_pass). */
+    overlay_pass *overlay;
+    const overlay_draw *text;
 } present_draw;
 
 /* Records the pass; the swapchain image ends in PRESENT_SRC_KHR. */

@@ -271,3 +271,8 @@ LAYOUT(present_push, encode, 4);
 LAYOUT(present_push, pad0, 8);
 LAYOUT(present_push, pad1, 12);
 SIZE(present_push, 16);
+LAYOUT(overlay_push, scale_x, 0);
+LAYOUT(overlay_push, scale_y, 4);
+LAYOUT(overlay_push, offset_x, 8);
+LAYOUT(overlay_push, offset_y, 12);
+SIZE(overlay_push, 16);

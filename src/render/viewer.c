@@ -11,6 +11,7 @@
 #include "gpu/swapchain.h"
 #include "gpu/timer.h"
 #include "passes/display.h"
+#include "passes/overlay.h"
 #include "passes/present.h"
 
 #define SLOTS PRESENT_SLOTS
@@ -23,6 +24,8 @@ typedef struct viewer_slot {
     display_pass *display; /* its descriptor set is rewritten every frame */
     display_target target;
     gpu_buffer vertices, indices;
+    gpu_buffer text;       /* the overlay's vertices */
+    uint32_t text_vertices;
     gpu_timer *timer;
     gpu_buffer readback;   /* the linear image, when read (screenshot, auto exposure) */
     bool read;             /* this slot's frame copies the image to `readback` */
@@ -36,6 +39,7 @@ struct viewer {
     const xrad_scene *scene;
     VkCommandPool pool;
     present_pass *present;
+    overlay_pass *overlay;
     gpu_swapchain sc;
     bool vsync, recreate;
     viewer_slot slots[SLOTS];
@@ -61,6 +65,7 @@ static void slot_destroy(struct xrad_context *ctx, viewer *v, viewer_slot *sl)
     gpu_timer_destroy(ctx, &sl->timer);
     gpu_buffer_destroy(ctx, &sl->readback);
     gpu_buffer_destroy(ctx, &sl->indices);
+    gpu_buffer_destroy(ctx, &sl->text);
     gpu_buffer_destroy(ctx, &sl->vertices);
     display_target_destroy(ctx, &sl->target);
     display_destroy(ctx, &sl->display);
@@ -107,6 +112,7 @@ xrad_status viewer_create(struct xrad_context *ctx, const xrad_scene *scene,
     if ((s = gpu_swapchain_format(ctx, desc->surface, &format, err)) ||
         (s = gpu_thread_pool(ctx, &v->pool, err)) ||
         (s = present_create(ctx, format, &v->present, err)) ||
+        (s = overlay_create(ctx, present_render_pass(v->present), &v->overlay, err)) ||
         (s = gpu_swapchain_create(ctx, desc->surface, present_render_pass(v->present),
                                   desc->width, desc->height, desc->vsync, &v->sc, err)))
         goto fail;
@@ -153,6 +159,7 @@ void viewer_destroy(viewer **pv)
         slot_destroy(ctx, v, &v->slots[i]);
     gpu_image_destroy(ctx, &v->empty);
     gpu_swapchain_destroy(ctx, &v->sc);
+    overlay_destroy(ctx, &v->overlay);
     present_destroy(ctx, &v->present);
     free(v);
     *pv = NULL;
@@ -223,6 +230,21 @@ static xrad_status upload_mesh(viewer *v, viewer_slot *sl, const display_mesh *m
     return XRAD_OK;
 }
 
+/* The overlay's vertices for this slot's frame. */
+static xrad_status upload_text(viewer *v, viewer_slot *sl, const char *text, xrad_error *err)
+{
+    sl->text_vertices = 0;
+    uint32_t bound = text ? overlay_vertex_bound(text) : 0;
+    if (!text || !text[0])
+        return XRAD_OK;
+    xrad_status s = ensure_buffer(v->ctx, &sl->text, (size_t)bound * sizeof(overlay_vertex),
+                                  VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, err);
+    if (s)
+        return s;
+    return overlay_build(text, sl->text.alloc.mapped, (uint32_t)(sl->text.size / sizeof(overlay_vertex)),
+                         &sl->text_vertices, err);
+}
+
 static xrad_status record(viewer *v, viewer_slot *sl, uint32_t image, const scheduler_frame *f,
                           const display_mesh *mesh, const display_camera *cam,
                           const viewer_frame_desc *d, xrad_error *err)
@@ -265,6 +287,15 @@ static xrad_status record(viewer *v, viewer_slot *sl, uint32_t image, const sche
     }
     gpu_image_transition(cmd, &sl->target.color, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
                          VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    /* The font at 2x from 720 lines up, 3x from 1220: legible, not huge. */
+    overlay_draw text = {
+        .vertices = &sl->text,
+        .vertex_count = sl->text_vertices,
+        .extent = v->sc.extent,
+        .x = 8,
+        .y = 8,
+        .zoom = 1 + v->sc.extent.height / 500,
+    };
     gpu_timer_begin(sl->timer, cmd, "present");
     present_record(ctx, v->present, cmd,
                    &(present_draw){
@@ -273,6 +304,8 @@ static xrad_status record(viewer *v, viewer_slot *sl, uint32_t image, const sche
                        .extent = v->sc.extent,
                        .exposure = v->exposure > 0 ? v->exposure : 1.0,
                        .slot = (uint32_t)(sl - v->slots),
+                       .overlay = v->overlay,
+                       .text = &text,
                    });
     gpu_timer_end(sl->timer, cmd);
     return VK_CHECK(ctx, err, vkEndCommandBuffer(cmd));
@@ -356,7 +389,7 @@ xrad_status viewer_frame(viewer *v, scheduler *sched, const viewer_frame_desc *d
     display_mesh mesh = {0};
     if ((s = display_camera_from(v->scene, &d->cam, w, h, d->time, &cam, err)) ||
         (s = display_mesh_build(v->scene, d->time, cam.origin, &mesh, err)) ||
-        (s = upload_mesh(v, sl, &mesh, err)))
+        (s = upload_mesh(v, sl, &mesh, err)) || (s = upload_text(v, sl, d->overlay, err)))
         goto done;
 
     scheduler_frame f;

@@ -2,7 +2,8 @@
  * The display side of the real-time loop (xrad view): each frame draws the
  * scene from a free camera with the scheduler's front atlas
  * (passes/display.h), tone-maps it into a swapchain image
- * (passes/present.h) and presents it. Two frame slots are in flight; each
+ * (passes/present.h) with an optional text overlay (passes/overlay.h) and
+ * presents it. Two frame slots are in flight; each
  * has its own command buffer, fence, display pass, target and geometry, so
  * a slot is rewritten only after its own previous frame completed. A
  * resize recreates the swapchain, retiring the old one against the
@@ -43,6 +44,9 @@ typedef struct viewer_frame_desc {
      * tone mapping) is written here, .exr as is, .png tone-mapped with the
      * frame's exposure exactly as the window shows it. */
     const char *screenshot;
+    /* Non-NULL: text over the window's top-left corner (passes/overlay.h);
+     * it is not in the screenshot, which is the scene's image. */
+    const char *overlay;
 } viewer_frame_desc;
 
 typedef struct viewer_stats {

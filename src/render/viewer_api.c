@@ -64,6 +64,7 @@ xrad_status xrad_viewer_frame(xrad_viewer *x, xrad_scheduler *s, const xrad_view
         .width = d->width,
         .height = d->height,
         .screenshot = d->screenshot,
+        .overlay = d->overlay,
     };
     return viewer_frame(x->v, scheduler_api_inner(s), &f, err);
 }
