@@ -33,3 +33,13 @@ void sliding_table_add(sliding_table *t, const char *name, double v)
     }
     sliding_add(&t->series[i], v);
 }
+
+uint32_t sliding_table_means(const sliding_table *t, xrad_pass_time *out, uint32_t max)
+{
+    uint32_t n = t->count < max ? t->count : max;
+    for (uint32_t i = 0; i < n; i++) {
+        snprintf(out[i].name, sizeof(out[i].name), "%s", t->names[i]);
+        out[i].ms = sliding_mean(&t->series[i]);
+    }
+    return n;
+}

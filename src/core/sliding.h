@@ -8,6 +8,8 @@
 
 #include <stdint.h>
 
+#include "xrad.h"
+
 #define SLIDING_WINDOW 32
 #define SLIDING_SERIES 32
 #define SLIDING_NAME_MAX 48
@@ -31,5 +33,9 @@ typedef struct sliding_table {
 /* Adds v to the series `name`, creating it; a name past SLIDING_SERIES
  * distinct ones is dropped. */
 void sliding_table_add(sliding_table *t, const char *name, double v);
+
+/* The table's means as the public statistics give them, at most `max`;
+ * returns how many. */
+uint32_t sliding_table_means(const sliding_table *t, xrad_pass_time *out, uint32_t max);
 
 #endif

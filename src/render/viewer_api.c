@@ -80,9 +80,5 @@ void xrad_viewer_get_stats(const xrad_viewer *x, xrad_viewer_stats *out)
     out->serial = vs.serial;
     out->solution_time = vs.solution_time;
     out->frame_ms = sliding_mean(&vs.frame_ms);
-    for (uint32_t i = 0; i < vs.passes.count && i < XRAD_MAX_PASSES; i++) {
-        snprintf(out->passes[i].name, sizeof(out->passes[i].name), "%s", vs.passes.names[i]);
-        out->passes[i].ms = sliding_mean(&vs.passes.series[i]);
-        out->pass_count = i + 1;
-    }
+    out->pass_count = sliding_table_means(&vs.passes, out->passes, XRAD_MAX_PASSES);
 }

@@ -154,11 +154,7 @@ void xrad_scheduler_get_stats(xrad_scheduler *x, xrad_scheduler_stats *out)
     out->busy = st.busy;
     out->frame_ms = st.frame_ms;
     out->redistribute_ms = st.redistribute_ms;
-    for (uint32_t i = 0; i < st.passes.count && i < XRAD_MAX_PASSES; i++) {
-        snprintf(out->passes[i].name, sizeof(out->passes[i].name), "%s", st.passes.names[i]);
-        out->passes[i].ms = sliding_mean(&st.passes.series[i]);
-        out->pass_count = i + 1;
-    }
+    out->pass_count = sliding_table_means(&st.passes, out->passes, XRAD_MAX_PASSES);
     out->last = st.last;
 }
 

@@ -24,24 +24,8 @@ fail() {
     echo "FAIL: $*"
 }
 
-if ! command -v Xvfb >/dev/null 2>&1; then
-    echo "SKIP: Xvfb is not installed (Debian: xvfb; tools/setup.sh installs it)"
-    exit 77
-fi
-Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>"$tmp/display" 2>"$tmp/xvfb.log" &
-xvfb_pid=$!
-i=0
-while [ ! -s "$tmp/display" ] && [ $i -lt 100 ]; do
-    sleep 0.1
-    i=$((i + 1))
-done
-if [ ! -s "$tmp/display" ]; then
-    echo "SKIP: Xvfb did not start:"
-    sed 's/^/    /' "$tmp/xvfb.log" | head -5
-    exit 77
-fi
-DISPLAY=":$(cat "$tmp/display")"
-export DISPLAY
+. "$(dirname "$0")/xvfb.sh"
+xvfb_start "$tmp"
 
 # Frame 10 at 30 fps: the box has turned by its animation since t = 0.
 scene=$root/scenes/cornell-lowq.json

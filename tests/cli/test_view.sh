@@ -35,28 +35,8 @@ if [ "$rc" != 2 ] || ! grep -q "no display" "$tmp/err"; then
     sed 's/^/    /' "$tmp/err" | head -5
 fi
 
-# Xvfb: installed where it is missing and we may, started on a free display.
-if ! command -v Xvfb >/dev/null 2>&1 && [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -qq xvfb xauth >/dev/null 2>&1
-fi
-if ! command -v Xvfb >/dev/null 2>&1; then
-    echo "SKIP: Xvfb is not installed and cannot be installed here (Debian: xvfb)"
-    exit 77
-fi
-Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3>"$tmp/display" 2>"$tmp/xvfb.log" &
-xvfb_pid=$!
-i=0
-while [ ! -s "$tmp/display" ] && [ $i -lt 100 ]; do
-    sleep 0.1
-    i=$((i + 1))
-done
-if [ ! -s "$tmp/display" ]; then
-    echo "SKIP: Xvfb did not start:"
-    sed 's/^/    /' "$tmp/xvfb.log" | head -5
-    exit 77
-fi
-DISPLAY=":$(cat "$tmp/display")"
-export DISPLAY
+. "$(dirname "$0")/xvfb.sh"
+xvfb_start "$tmp"
 
 # run DESCRIPTION -- command: exit 0 and no validation message
 run() {
