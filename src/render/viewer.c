@@ -234,9 +234,9 @@ static xrad_status upload_mesh(viewer *v, viewer_slot *sl, const display_mesh *m
 static xrad_status upload_text(viewer *v, viewer_slot *sl, const char *text, xrad_error *err)
 {
     sl->text_vertices = 0;
-    uint32_t bound = text ? overlay_vertex_bound(text) : 0;
     if (!text || !text[0])
         return XRAD_OK;
+    uint32_t bound = overlay_vertex_bound(text);
     xrad_status s = ensure_buffer(v->ctx, &sl->text, (size_t)bound * sizeof(overlay_vertex),
                                   VK_BUFFER_USAGE_VERTEX_BUFFER_BIT, err);
     if (s)
