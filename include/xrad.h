@@ -614,6 +614,11 @@ typedef struct xrad_solver_desc {
     /* cross: rays per side over a dynamic patch in PROJECTEDRADIOSITY
      * (thesis 4.5.3 gridSize), 1..16; default 4. */
     uint32_t cross_grid;
+    /* cross: the form factor from a receiver to a patch from which it
+     * gets all cross_grid x cross_grid rays; a pair of smaller form factor
+     * F gets ceil(cross_grid sqrt(F / cross_grid_ff)) a side, at least 1
+     * (few rays far away, the full grid near). (0, 1]; default 0.02. */
+    double cross_grid_ff;
     /* cross: pixels per face side of the back hemicubes (thesis 4.5.2),
      * even, 8..256; default 16. */
     uint32_t back_res;
@@ -779,6 +784,10 @@ typedef struct xrad_solver_stats {
      * in groups) and on the lights, as created; a frame costs hemicubes
      * of each. */
     uint32_t cross_patches, cross_light_patches;
+    /* cross: redistributions made twice because the scale of the radiosity
+     * hemicubes, taken from the last one, was more than 16x off (an emission
+     * changed); each frame's redistribution otherwise has no host wait for it */
+    uint32_t cross_rescaled;
     uint32_t pass_count;
     xrad_pass_time passes[XRAD_MAX_PASSES];
 } xrad_solver_stats;

@@ -140,9 +140,18 @@ vec4 back_bilinear(uint p, vec3 d)
     return mix(mix(c[0], c[1], f.x), mix(c[2], c[3], f.x), f.y);
 }
 
-// PROJECTEDRADIOSITY(s, e), above.
-vec3 projected(uint p, vec3 x, vec3 ne)
+// PROJECTEDRADIOSITY(s, e), above, for a pair of form factor ff. The rays
+// a side follow the patch's solid angle from x (issue 16; thesis 6.2 asks
+// for fewer rays far away): the full grid from pc.grid_ff on, below it
+// ceil(grid sqrt(ff / grid_ff)), so that the ray count goes with ff and a
+// pair's sampling error, a share of ff x P, stays about the same share of
+// the largest pair's. On cornell-large one ray for every pair left
+// surface_error and element p95 within 0.001 of sixteen.
+vec3 projected(uint p, vec3 x, vec3 ne, float ff)
 {
+    uint n = pc.grid;
+    if (ff < pc.grid_ff)
+        n = clamp(uint(ceil(float(pc.grid) * sqrt(ff / pc.grid_ff))), 1u, pc.grid);
     gpu_shooter bf = frame(CROSS_FRAMES_BACK, p);
     mat3 to_local = basis(bf);
     cross_quad q = quads[p];
@@ -151,10 +160,10 @@ vec3 projected(uint p, vec3 x, vec3 ne)
     vec3 dw = (q.corner[2].xyz - q.corner[3].xyz) - du;
     vec3 total = vec3(0.0);
     float weights = 0.0;
-    float inv = 1.0 / float(pc.grid);
-    for (uint gy = 0u; gy < pc.grid; gy++) {
+    float inv = 1.0 / float(n);
+    for (uint gy = 0u; gy < n; gy++) {
         float tv = (float(gy) + 0.5) * inv;
-        for (uint gx = 0u; gx < pc.grid; gx++) {
+        for (uint gx = 0u; gx < n; gx++) {
             float tu = (float(gx) + 0.5) * inv;
             vec3 g = q.corner[0].xyz + tu * du + tv * dv + (tu * tv) * dw;
             vec3 ray = g - x;
@@ -360,7 +369,7 @@ void main()
         float f = seen(p, x, ne, id);
         if (f > 0.0)
             gathered += f * (dynamic ? values[p].total.rgb
-                                     : values[p].total.rgb - projected(p, x, ne));
+                                     : values[p].total.rgb - projected(p, x, ne, f));
     }
     if (dynamic) {
         B[e].rgb += rho * gathered;

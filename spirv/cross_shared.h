@@ -139,7 +139,9 @@ struct cross_reconstruct_push {
     uint first;            /* elements [first, first + count) of this dispatch */
     uint count;
     uint light_count;      /* light patches (0: the light bindings are placeholders) */
-    uint pad0, pad1;
+    float grid_ff;         /* a pair of form factor F below this gets
+                              ceil(grid sqrt(F / grid_ff)) rays a side, at least 1 */
+    uint pad1;
 };
 
 #endif

@@ -95,6 +95,7 @@ void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
         .first = q->first,
         .count = q->count ? q->count : q->element_count - q->first,
         .light_count = q->light_count,
+        .grid_ff = (float)q->grid_ff,
     };
     gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, push.count, CROSS_RECONSTRUCT_GROUP);
 }

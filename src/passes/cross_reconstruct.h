@@ -47,7 +47,8 @@ typedef struct cross_reconstruct_params {
     uint32_t phase; /* CROSS_RECONSTRUCT_M or CROSS_RECONSTRUCT_C */
     uint32_t element_count, patch_count, light_count;
     uint32_t hemicube_res, back_res;
-    uint32_t grid;          /* PROJECTEDRADIOSITY rays per side */
+    uint32_t grid;          /* PROJECTEDRADIOSITY rays per side, at most */
+    double grid_ff;         /* the form factor from which a pair gets all of them */
     bool bilinear;          /* back hemicubes filtered across face edges */
     double subdivide_ratio; /* exact form factor where A_s / r^2 exceeds it */
     double back_scale;      /* the back hemicubes hold shot radiosity x this */

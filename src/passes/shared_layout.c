@@ -72,7 +72,7 @@ LAYOUT(cross_reconstruct_push, diameter, 40);
 LAYOUT(cross_reconstruct_push, first, 44);
 LAYOUT(cross_reconstruct_push, count, 48);
 LAYOUT(cross_reconstruct_push, light_count, 52);
-LAYOUT(cross_reconstruct_push, pad0, 56);
+LAYOUT(cross_reconstruct_push, grid_ff, 56);
 LAYOUT(cross_reconstruct_push, pad1, 60);
 SIZE(cross_reconstruct_push, 64);
 

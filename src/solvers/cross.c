@@ -89,6 +89,13 @@
 /* Rounds of (redistribution, progressive iterations) in the first solve. */
 #define SOLVE_ROUNDS 4
 
+/* A redistribution draws its radiosity hemicubes at the scale the last one
+ * measured, without waiting for its own measure, and is made again only if
+ * the two differ by more than this factor either way: then the largest
+ * value shown would pass 256 x 16 or fall below 256 / 16, still far inside
+ * fp16's range, so no light is lost by it either. */
+#define SCALE_SLACK 16.0
+
 typedef struct cross {
     progressive *prog;
     dynamic_patches dp;
@@ -116,6 +123,7 @@ typedef struct cross {
     double diameter;          /* m, the scale of the hemicubes' near plane and distances,
                                  fixed at create (the posed scene's diameter changes) */
     double scale;             /* the radiosity hemicubes hold values x this (HEMICUBE_PEAK) */
+    bool scale_known;         /* scale was measured by an earlier redistribution of this solve */
 } cross;
 
 static void destroy(xrad_solver *s)
@@ -420,6 +428,7 @@ static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, ui
                                  .hemicube_res = s->desc.hemicube_res,
                                  .back_res = s->desc.back_res,
                                  .grid = s->desc.cross_grid,
+                                 .grid_ff = s->desc.cross_grid_ff,
                                  .bilinear = !s->desc.back_nearest,
                                  .subdivide_ratio = s->desc.subdivide_ratio,
                                  .back_scale = c->scale,
@@ -437,36 +446,34 @@ static xrad_status run(xrad_solver *s, gpu_cmd *cmd, xrad_error *err)
     return solver_submit_wait(s, cmd, err);
 }
 
-/* Steps 1-5 at scene time t: one submission, or with desc.slice_elements,
- * one for the hemicubes and the gather and one per slice of step 5, each
- * waited for, so that another thread's work on the queue (a display) gets
- * in between. B^s of C does not change within it (thesis 3.3.4): nothing
- * else is in those submissions, and the progressive iterations come after. */
-static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *err)
+/* The scale that maps the largest |B - Bu - E| of C, measured by the
+ * reset pass into c->peak, to HEMICUBE_PEAK. */
+static double peak_scale(const cross *c)
+{
+    float top;
+    memcpy(&top, c->peak.alloc.mapped, sizeof(top));
+    return top > 0 && isfinite(top) ? HEMICUBE_PEAK / top : 1.0;
+}
+
+/* Steps 1-5, recorded and run at the pose the frames hold. With `measure`
+ * the reset is a submission of its own and the hemicubes take the scale it
+ * measured (one host wait more); without, c->scale as it is. */
+static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error *err)
 {
     uint32_t n = s->gs.element_count, slice = s->desc.slice_elements;
-    struct gpu_shooter *f = c->frames.alloc.mapped;
-    dynamic_patches_pose(s->scene, &c->dp, t, s->desc.seed, f + CROSS_FRAMES_FRONT * c->P,
-                         f + CROSS_FRAMES_BACK * c->P, f + CROSS_FRAMES_GATHER * c->P,
-                         c->quads.alloc.mapped);
-    /* The radiosity hemicubes are fp16: their scale follows what they will
-     * show (a 1 mm^2 lamp at 1e6 W/m^2 lights walls to 0.2 W/m^2, which
-     * any scale made from the lamp's own radiosity sends below fp16's
-     * range). Measured first, in a submission of its own. */
-    uint32_t *peak = c->peak.alloc.mapped;
-    *peak = 0;
+    *(uint32_t *)c->peak.alloc.mapped = 0;
     gpu_cmd cmd;
     xrad_status st = gpu_cmd_begin(s->ctx, &cmd, err);
     if (st)
         return st;
     gpu_timer_start(s->timer, cmd.cmd);
     record_reset(s, c, cmd.cmd);
-    if ((st = run(s, &cmd, err)) || (st = gpu_cmd_begin(s->ctx, &cmd, err)))
-        return st;
-    float top;
-    memcpy(&top, peak, sizeof(top));
-    c->scale = top > 0 && isfinite(top) ? HEMICUBE_PEAK / top : 1.0;
-    gpu_timer_start(s->timer, cmd.cmd);
+    if (measure) {
+        if ((st = run(s, &cmd, err)) || (st = gpu_cmd_begin(s->ctx, &cmd, err)))
+            return st;
+        c->scale = peak_scale(c);
+        gpu_timer_start(s->timer, cmd.cmd);
+    }
     record_hemicubes(s, c, cmd.cmd);
     if (c->L)
         record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_M_DIRECT, 0, n);
@@ -488,6 +495,42 @@ static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *
     return run(s, &cmd, err);
 }
 
+/* Steps 1-5 at scene time t: one submission, or with desc.slice_elements,
+ * one for the hemicubes and the gather and one per slice of step 5, each
+ * waited for, so that another thread's work on the queue (a display) gets
+ * in between. B^s of C does not change within it (thesis 3.3.4): nothing
+ * else is in those submissions, and the progressive iterations come after.
+ *
+ * The radiosity hemicubes are fp16: their scale follows what they will
+ * show (a 1 mm^2 lamp at 1e6 W/m^2 lights walls to 0.2 W/m^2, which any
+ * scale made from the lamp's own radiosity sends below fp16's range). The
+ * first redistribution of a solve measures it first, in a submission of
+ * its own; later ones use the last measure and check it after the fact
+ * (issue 16.4: no host wait in the frame for it). Where it was off by more
+ * than SCALE_SLACK (an emission changed) steps 1-5 are made again at the
+ * right scale. That is exact: step 5 adds the same change to B and Bu of
+ * C, so the B - Bu - E the reset measures is the same the second time, and
+ * the second step 5 replaces what the first inserted. */
+static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *err)
+{
+    struct gpu_shooter *f = c->frames.alloc.mapped;
+    dynamic_patches_pose(s->scene, &c->dp, t, s->desc.seed, f + CROSS_FRAMES_FRONT * c->P,
+                         f + CROSS_FRAMES_BACK * c->P, f + CROSS_FRAMES_GATHER * c->P,
+                         c->quads.alloc.mapped);
+    bool measure = !c->scale_known;
+    xrad_status st = record_run(s, c, measure, err);
+    if (st || measure) {
+        c->scale_known = !st;
+        return st;
+    }
+    double want = peak_scale(c);
+    if (want <= c->scale * SCALE_SLACK && want >= c->scale / SCALE_SLACK)
+        return XRAD_OK;
+    c->scale = want;
+    s->stats.cross_rescaled++;
+    return record_run(s, c, false, err);
+}
+
 /* Nothing inserted yet: the start of a solve. */
 static xrad_status clear_inserted(xrad_solver *s, cross *c, xrad_error *err)
 {
@@ -503,6 +546,7 @@ static xrad_status clear_inserted(xrad_solver *s, cross *c, xrad_error *err)
 static xrad_status solve(xrad_solver *s, xrad_error *err)
 {
     cross *c = s->impl;
+    c->scale_known = false;
     xrad_status st = c->P ? clear_inserted(s, c, err) : XRAD_OK;
     if (!st)
         st = progressive_run(s, c->prog, true, 0, err);

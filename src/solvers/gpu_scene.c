@@ -181,6 +181,57 @@ static xrad_status mark_buried(gpu_scene *gs, double time, double diameter, geom
     return XRAD_OK;
 }
 
+xrad_status gpu_scene_collect_pose(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err)
+{
+    if (!gs->pose_cmd.cmd)
+        return XRAD_OK;
+    xrad_status s = gs->pose_cmd.submitted ? gpu_cmd_wait(ctx, &gs->pose_cmd, err) : XRAD_OK;
+    gpu_cmd_destroy(ctx, &gs->pose_cmd);
+    return s;
+}
+
+typedef struct pose_part {
+    gpu_buffer *dst;
+    const void *data;
+    size_t bytes;
+} pose_part;
+
+/* The parts through gs->pose_staging, in one submission nobody waits for
+ * (issue 16.4: five uploads, each with a staging buffer of its own and a
+ * host wait, were repeated at every frame of every method). */
+static xrad_status upload_pose(struct xrad_context *ctx, gpu_scene *gs, const pose_part *parts,
+                               uint32_t count, xrad_error *err)
+{
+    xrad_status s = gpu_scene_collect_pose(ctx, gs, err);
+    if (s)
+        return s;
+    VkDeviceSize total = 0;
+    for (uint32_t i = 0; i < count; i++)
+        total += (parts[i].bytes + 255) & ~(VkDeviceSize)255;
+    if (gs->pose_staging.size < total) {
+        gpu_buffer_destroy(ctx, &gs->pose_staging);
+        if ((s = gpu_buffer_create(ctx, total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEM_UPLOAD,
+                                   GPU_MEM_STAGING, &gs->pose_staging, err)))
+            return s;
+    }
+    if ((s = gpu_cmd_begin(ctx, &gs->pose_cmd, err)))
+        return s;
+    VkDeviceSize at = 0;
+    for (uint32_t i = 0; i < count; i++) {
+        memcpy((char *)gs->pose_staging.alloc.mapped + at, parts[i].data, parts[i].bytes);
+        VkBufferCopy region = {.srcOffset = at, .dstOffset = 0, .size = parts[i].bytes};
+        vkCmdCopyBuffer(gs->pose_cmd.cmd, gs->pose_staging.buffer, parts[i].dst->buffer, 1,
+                        &region);
+        at += (parts[i].bytes + 255) & ~(VkDeviceSize)255;
+    }
+    gpu_memory_barrier(gs->pose_cmd.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_ALL_COMMANDS_BIT,
+                       VK_ACCESS_MEMORY_READ_BIT | VK_ACCESS_MEMORY_WRITE_BIT);
+    if ((s = gpu_cmd_submit(ctx, &gs->pose_cmd, err)))
+        gpu_cmd_destroy(ctx, &gs->pose_cmd);
+    return s;
+}
+
 static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, double time,
                                    xrad_error *err)
 {
@@ -219,16 +270,14 @@ static xrad_status upload_geometry(struct xrad_context *ctx, gpu_scene *gs, doub
     /* A margin of 1e-5 of the scene's size: flat quads get a thickness,
      * and the slab test's rounding no miss. */
     surface_bvh_refit(&gs->bvh, g.surfaces, (float)fmax(1e-5 * diameter, 1e-7), nodes);
-    if (!(s = gpu_upload_buffer(ctx, &gs->surfaces, 0, g.surfaces,
-                                at_least_one(gs->surface_count) * sizeof(*g.surfaces), err)) &&
-        !(s = gpu_upload_buffer(ctx, &gs->elements, 0, g.elements,
-                                at_least_one(gs->element_count) * sizeof(*g.elements), err)) &&
-        !(s = gpu_upload_buffer(ctx, &gs->vertices, 0, g.vertices,
-                                at_least_one(gs->vertex_count) * sizeof(*g.vertices), err)) &&
-        !(s = gpu_upload_buffer(ctx, &gs->clusters, 0, clusters,
-                                at_least_one(gs->cluster_count) * sizeof(*clusters), err)) &&
-        !(s = gpu_upload_buffer(ctx, &gs->bvh_nodes, 0, nodes,
-                                at_least_one(gs->bvh.node_count) * sizeof(*nodes), err))) {
+    const pose_part parts[] = {
+        {&gs->surfaces, g.surfaces, at_least_one(gs->surface_count) * sizeof(*g.surfaces)},
+        {&gs->elements, g.elements, at_least_one(gs->element_count) * sizeof(*g.elements)},
+        {&gs->vertices, g.vertices, at_least_one(gs->vertex_count) * sizeof(*g.vertices)},
+        {&gs->clusters, clusters, at_least_one(gs->cluster_count) * sizeof(*clusters)},
+        {&gs->bvh_nodes, nodes, at_least_one(gs->bvh.node_count) * sizeof(*nodes)},
+    };
+    if (!(s = upload_pose(ctx, gs, parts, sizeof(parts) / sizeof(parts[0]), err))) {
         gs->time = time;
         gs->diameter = diameter;
     }
@@ -413,6 +462,8 @@ void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs)
     free(gs->buried);
     free(gs->enclosed);
     free(gs->enclosed_m);
+    gpu_cmd_destroy(ctx, &gs->pose_cmd);
+    gpu_buffer_destroy(ctx, &gs->pose_staging);
     gpu_image_destroy(ctx, &gs->atlas);
     gpu_buffer_destroy(ctx, &gs->vertices);
     gpu_buffer_destroy(ctx, &gs->indices);

@@ -17,6 +17,7 @@
 #include <stdint.h>
 
 #include "gpu/buffer.h"
+#include "gpu/cmd.h"
 #include "gpu/image.h"
 #include "passes/hemicube.h"
 #include "scene/scene.h"
@@ -70,6 +71,11 @@ typedef struct gpu_scene {
     uint8_t *enclosed_m;       /* element_count: scene_find_enclosed_dynamic at `time`, with
                                   GPU_SCENE_ENCLOSE_MOVING (else all 0) */
     uint32_t flags;            /* GPU_SCENE_* */
+    /* A pose's uploads: one host-visible staging buffer, kept from pose to
+     * pose, and the one submission of their copies, which nothing waits for
+     * (gpu_scene_pose, gpu_scene_collect_pose); zeroed when none is pending. */
+    gpu_buffer pose_staging;
+    gpu_cmd pose_cmd;
 } gpu_scene;
 
 /* Contact distance for buried elements, a fraction of the scene's
@@ -96,10 +102,19 @@ xrad_status gpu_scene_create(struct xrad_context *ctx, const xrad_scene *scene, 
 /* Accepts a zeroed struct; zeroes it. The GPU must be done with it. */
 void gpu_scene_destroy(struct xrad_context *ctx, gpu_scene *gs);
 
-/* Re-uploads the geometry (surfaces, elements, hemicube vertices) posed at `time`.
- * B and Bu are kept. The GPU must not be using those buffers. */
+/* Re-uploads the geometry (surfaces, elements, hemicube vertices,
+ * clusters, hierarchy boxes) posed at `time`. B and Bu are kept. The GPU
+ * must not be using those buffers. The copies are one submission that the
+ * host does not wait for: every later recording starts with a full barrier
+ * (gpu_cmd_begin), so whatever is submitted after it sees the new pose. */
 xrad_status gpu_scene_pose(struct xrad_context *ctx, gpu_scene *gs, double time,
                            xrad_error *err);
+
+/* Frees the last pose's copy submission once it is complete, waiting for
+ * it if need be (after any later submission was waited for it is done
+ * already). The solvers call it after each of their waits, in the thread
+ * that posed (a command buffer goes back to its thread's pool). */
+xrad_status gpu_scene_collect_pose(struct xrad_context *ctx, gpu_scene *gs, xrad_error *err);
 
 /* Fixes the shooting patches the select pass uses for each surface, from
  * now on and at every pose: 3 per surface, the counts along s and t (0 0:

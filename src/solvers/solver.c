@@ -196,6 +196,8 @@ xrad_status solver_submit_wait(xrad_solver *s, gpu_cmd *c, xrad_error *err)
         s->stats.host_waits++;
     }
     gpu_cmd_destroy(s->ctx, c);
+    if (!st)
+        st = gpu_scene_collect_pose(s->ctx, &s->gs, err);
     return st ? st : gpu_timer_collect(s->ctx, s->timer, err);
 }
 
