@@ -658,6 +658,13 @@ typedef struct xrad_solver_desc {
      * dispatch costs more than it saves), off for gather (its batches of
      * neighbouring elements see nearly all of a room). */
     uint32_t cull;
+    /* cross: XRAD_CROSS_PAIRS_ON lists, per patch, the elements of C that
+     * see it (compaction and indirect dispatch), and traces the projection's
+     * rays one invocation per listed pair in patch order; OFF (default 0)
+     * loops over every patch per element, tracing where it sees it. On
+     * lavapipe (8 lanes, atomics on the CPU) listing costs more than the
+     * idle lanes it saves: 1.7-1.9 times the projection's time. */
+    uint32_t cross_pairs;
     /* Progress of the long parts, on the calling thread: gather's direct
      * light (at create) and its bounces, progressive's shots (per batch;
      * fraction: how far the unshot power has come down, on a log scale,
@@ -678,6 +685,11 @@ enum {
     XRAD_CULL_AUTO = 3,
 };
 #define XRAD_CULL_MIN_CLUSTERS 8
+
+enum {
+    XRAD_CROSS_PAIRS_OFF = 1,
+    XRAD_CROSS_PAIRS_ON = 2,
+};
 
 enum {
     XRAD_AMBIENT_OFF = 1,
@@ -788,6 +800,10 @@ typedef struct xrad_solver_stats {
      * hemicubes, taken from the last one, was more than 16x off (an emission
      * changed); each frame's redistribution otherwise has no host wait for it */
     uint32_t cross_rescaled;
+    /* cross: (element of C, patch) pairs that see each other, whose rays
+     * the cross projection traced, over the call; and those of them the
+     * pair list had no room for (their elements looped over every patch) */
+    uint64_t cross_pairs, cross_pairs_unlisted;
     uint32_t pass_count;
     xrad_pass_time passes[XRAD_MAX_PASSES];
 } xrad_solver_stats;

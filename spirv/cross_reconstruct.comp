@@ -1,7 +1,7 @@
 #version 450
 // Cross redistribution, the shooting half (src/passes/cross_reconstruct.c;
-// thesis Algorithm 4.4 lines 15-20 and Algorithm 4.5), one invocation per
-// element looping over every patch of M, in three dispatches (phase):
+// thesis Algorithm 4.4 lines 15-20 and Algorithm 4.5), in dispatches
+// (phase) of one invocation per element, except C_ARGS and C_EVAL:
 //
 //  CROSS_RECONSTRUCT_M_DIRECT, element of M: rho x the direct light of the
 //  lights of C, through their ID hemicubes with M (lit_direct), into B;
@@ -11,8 +11,17 @@
 //  total), into B alone: the patches' totals are taken again after this,
 //  and that is how M's light reaches C (Bu of M stays 0);
 //
+//  CROSS_RECONSTRUCT_C_PAIRS, element e of C: the patches that see it
+//  (facing, the nearest-texel check in their ID hemicubes), as pairs in a
+//  list, with their form factors; CROSS_RECONSTRUCT_C_ARGS writes the
+//  indirect dispatch of CROSS_RECONSTRUCT_C_EVAL, one invocation per pair:
+//  F (B_s' - P(C, s', e)), the projection below. Only the pairs that see
+//  each other cost rays (issue 16.1): a loop over every patch per element
+//  leaves the invocations whose patch is hidden idle beside those that
+//  trace, a warp's or lavapipe's 8 lanes together;
+//
 //  CROSS_RECONSTRUCT_C, element e of C (R_p(M, C) + R_x(C, C), the
-//  new-pose half of eq. 3.3.1 as DESIGN.md writes it):
+//  new-pose half of eq. 3.3.1 as DESIGN.md writes it), summing its pairs:
 //    X_e = rho_e (sum over the patches s' e sees of F (B_s' - P(C, s', e))
 //                 - the direct light M hides from e, blocked_direct),
 //  B_s' the patch's total, P(C, s', e) the shot radiosity of C less its
@@ -81,6 +90,15 @@ layout(std430, binding = CROSS_RECONSTRUCT_BINDING_LIGHTS) readonly buffer Light
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_LIGHT_QUADS) readonly buffer LightQuads { cross_quad light_quads[]; };
 layout(binding = CROSS_RECONSTRUCT_BINDING_LIGHT_IDS_C) uniform utexture2DArray light_ids_c;
 layout(binding = CROSS_RECONSTRUCT_BINDING_LIGHT_IDS) uniform utexture2DArray light_ids;
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PAIRS) buffer Pairs { cross_pair pairs[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_RANGES) buffer Ranges { uvec2 ranges[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PAIR_STATE) buffer PairState {
+    cross_pair_state state;
+};
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_ORDER) buffer Order { uint order[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PATCH_LISTS) buffer PatchLists {
+    uint patch_lists[];
+};
 
 gpu_shooter frame(uint table, uint p)
 {
@@ -331,22 +349,129 @@ vec3 blocked_direct(vec3 x, vec3 ne, uint id)
     return sum;
 }
 
+// Element e's receiver point and normal.
+void receiver(uint e, out vec3 x, out vec3 ne)
+{
+    gpu_surface sr = surfaces[elements[e].surface];
+    uint ke = e - sr.first_element;
+    x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+    ne = elements[e].normal.xyz;
+}
+
+// C_PAIRS: the patches element e sees, as pairs in the list, its range in
+// ranges[e]. Kept here first (one pass over the patches), so that one
+// atomic reserves the element's pairs together and phase C sums them in
+// patch order; an element that sees more than CROSS_PAIRS_LOCAL patches,
+// or finds the list full, loops over the patches in phase C itself.
+void list_pairs(uint e, vec3 x, vec3 ne, uint id)
+{
+    uint local_patch[CROSS_PAIRS_LOCAL];
+    float local_ff[CROSS_PAIRS_LOCAL];
+    uint n = 0u;
+    for (uint p = 0u; p < pc.patch_count; p++) {
+        if (covered(p, x, ne, CONTACT * pc.diameter)) {
+            ranges[e] = uvec2(0u, CROSS_RANGE_HIDDEN);
+            return;
+        }
+        float f = seen(p, x, ne, id);
+        if (f > 0.0) {
+            if (n == CROSS_PAIRS_LOCAL) {
+                ranges[e] = uvec2(0u, CROSS_RANGE_INLINE);
+                return;
+            }
+            local_patch[n] = p;
+            local_ff[n] = f;
+            n++;
+        }
+    }
+    uint first = n > 0u ? atomicAdd(state.count, n) : 0u;
+    if (first + n > pc.pair_capacity || first + n < first) {
+        // The slots it was given below the capacity hold no pair.
+        for (uint k = first; k < pc.pair_capacity && k < first + n; k++)
+            pairs[k].patch_index = 0xffffffffu;
+        ranges[e] = uvec2(0u, CROSS_RANGE_INLINE);
+        return;
+    }
+    for (uint k = 0u; k < n; k++) {
+        pairs[first + k].element = e;
+        pairs[first + k].patch_index = local_patch[k];
+        pairs[first + k].ff = local_ff[k];
+        atomicAdd(patch_lists[local_patch[k]], 1u);
+    }
+    ranges[e] = uvec2(first, n);
+}
+
+// C_EVAL, pair i: F (B_s - P(C, s, e)) (eq. 3.3.1's new-pose terms).
+void eval_pair(uint i)
+{
+    cross_pair q = pairs[i];
+    if (q.element >= pc.element_count || q.patch_index >= pc.patch_count)
+        return;
+    vec3 x, ne;
+    receiver(q.element, x, ne);
+    uint p = q.patch_index;
+    pairs[i].value = vec4(q.ff * (values[p].total.rgb - projected(p, x, ne, q.ff)), 0.0);
+}
+
 void main()
 {
+    if (pc.phase == CROSS_RECONSTRUCT_C_ARGS) {
+        if (gl_GlobalInvocationID.x == 0u) {
+            uint n = min(state.count, pc.pair_capacity);
+            uint at = 0u;
+            for (uint p = 0u; p < pc.patch_count; p++) {
+                patch_lists[pc.patch_count + p] = at;
+                at += patch_lists[p];
+            }
+            state.listed = at;
+            state.scatter[0] = (n + CROSS_RECONSTRUCT_GROUP - 1u) / CROSS_RECONSTRUCT_GROUP;
+            state.scatter[1] = 1u;
+            state.scatter[2] = 1u;
+            state.eval[0] = (at + CROSS_RECONSTRUCT_GROUP - 1u) / CROSS_RECONSTRUCT_GROUP;
+            state.eval[1] = 1u;
+            state.eval[2] = 1u;
+        }
+        return;
+    }
+    // The pairs in patch order: neighbouring invocations trace through one
+    // patch's back hemicube from neighbouring elements, as the loop per
+    // element did (in the list's element order they read as many patches).
+    if (pc.phase == CROSS_RECONSTRUCT_C_SCATTER) {
+        uint i = gl_GlobalInvocationID.x;
+        if (i < min(state.count, pc.pair_capacity) && pairs[i].patch_index < pc.patch_count) {
+            uint p = pairs[i].patch_index;
+            uint k = atomicAdd(patch_lists[2u * pc.patch_count + p], 1u);
+            if (k < patch_lists[p])
+                order[patch_lists[pc.patch_count + p] + k] = i;
+        }
+        return;
+    }
+    if (pc.phase == CROSS_RECONSTRUCT_C_EVAL) {
+        if (gl_GlobalInvocationID.x < state.listed) {
+            uint i = order[gl_GlobalInvocationID.x];
+            if (i < pc.pair_capacity)
+                eval_pair(i);
+        }
+        return;
+    }
     if (gl_GlobalInvocationID.x >= pc.count)
         return;
     uint e = pc.first + gl_GlobalInvocationID.x;
     uint se = elements[e].surface;
     gpu_surface sr = surfaces[se];
     bool dynamic = sr.dynamic != 0u;
-    if (dynamic != (pc.phase != CROSS_RECONSTRUCT_C))
+    bool phase_c = pc.phase == CROSS_RECONSTRUCT_C || pc.phase == CROSS_RECONSTRUCT_C_PAIRS;
+    if (dynamic != !phase_c)
         return;
     // In contact (scene_find_buried): no light reaches it. An element of C
     // under M (BURIED_M) goes on to covered() below, which takes away the
     // light it had before M came.
     uint buried = elements[e].flags & (dynamic ? GPU_ELEMENT_BURIED_ANY : GPU_ELEMENT_BURIED);
-    if (buried != 0u)
+    if (buried != 0u) {
+        if (pc.phase == CROSS_RECONSTRUCT_C_PAIRS)
+            ranges[e] = uvec2(0u, CROSS_RANGE_SKIP);
         return;
+    }
     uint ke = e - sr.first_element;
     vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
     vec3 ne = elements[e].normal.xyz;
@@ -357,19 +482,31 @@ void main()
         B[e].rgb += rho * lit_direct(x, ne, id);
         return;
     }
+    if (pc.phase == CROSS_RECONSTRUCT_C_PAIRS) {
+        list_pairs(e, x, ne, id);
+        return;
+    }
+    // Phase C sums the values C_EVAL wrote for the element's pairs; phase M,
+    // and an element the full list left out, loop over the patches here.
     vec3 gathered = vec3(0.0);
-    bool hidden = false;
-    for (uint p = 0u; p < pc.patch_count; p++) {
-        if (dynamic && frame(CROSS_FRAMES_FRONT, p).surface == se)
-            continue;
-        if (!dynamic && covered(p, x, ne, CONTACT * pc.diameter)) {
-            hidden = true;
-            break;
+    uvec2 range = dynamic || pc.pair_capacity == 0u ? uvec2(0u, CROSS_RANGE_INLINE) : ranges[e];
+    bool hidden = range.y == CROSS_RANGE_HIDDEN;
+    if (range.y == CROSS_RANGE_INLINE) {
+        for (uint p = 0u; p < pc.patch_count; p++) {
+            if (dynamic && frame(CROSS_FRAMES_FRONT, p).surface == se)
+                continue;
+            if (!dynamic && covered(p, x, ne, CONTACT * pc.diameter)) {
+                hidden = true;
+                break;
+            }
+            float f = seen(p, x, ne, id);
+            if (f > 0.0)
+                gathered += f * (dynamic ? values[p].total.rgb
+                                         : values[p].total.rgb - projected(p, x, ne, f));
         }
-        float f = seen(p, x, ne, id);
-        if (f > 0.0)
-            gathered += f * (dynamic ? values[p].total.rgb
-                                     : values[p].total.rgb - projected(p, x, ne, f));
+    } else if (!hidden) {
+        for (uint k = 0u; k < range.y; k++)
+            gathered += pairs[range.x + k].value.rgb;
     }
     if (dynamic) {
         B[e].rgb += rho * gathered;

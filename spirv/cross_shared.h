@@ -115,12 +115,55 @@ struct cross_update_push {
 /* The hierarchy over the surfaces at the pose (gpu_bvh_node, uint). */
 #define CROSS_RECONSTRUCT_BINDING_BVH_NODES 15
 #define CROSS_RECONSTRUCT_BINDING_BVH_ITEMS 16
-#define CROSS_RECONSTRUCT_BINDING_COUNT 17
+/* The pair list of phase C (issue 16.1): cross_pair[pair_capacity], uvec2
+ * per element (its first pair and count, or CROSS_RANGE_*), and
+ * cross_pair_state (the count and the indirect dispatch). */
+#define CROSS_RECONSTRUCT_BINDING_PAIRS 17
+#define CROSS_RECONSTRUCT_BINDING_RANGES 18
+#define CROSS_RECONSTRUCT_BINDING_PAIR_STATE 19
+/* uint[pair_capacity]: the pairs in patch order (C_SCATTER), which C_EVAL
+ * follows; uint[3 patch_count]: per patch its pairs, its first place in
+ * that order, the places taken. */
+#define CROSS_RECONSTRUCT_BINDING_ORDER 20
+#define CROSS_RECONSTRUCT_BINDING_PATCH_LISTS 21
+#define CROSS_RECONSTRUCT_BINDING_COUNT 22
 
 /* cross_reconstruct.comp phases */
 #define CROSS_RECONSTRUCT_M_DIRECT 0u /* elements of M: the direct light of C's lights */
 #define CROSS_RECONSTRUCT_M 1u        /* elements of M: R_p(M, M) */
-#define CROSS_RECONSTRUCT_C 2u        /* elements of C: R_p(M, C) + R_x(C, C) replace the last ones */
+#define CROSS_RECONSTRUCT_C 2u        /* elements of C: R_p(M, C) + R_x(C, C) replace the last
+                                         ones, from the pairs' values */
+#define CROSS_RECONSTRUCT_C_PAIRS 3u  /* elements of C: the (element, patch) pairs it sees */
+#define CROSS_RECONSTRUCT_C_ARGS 4u   /* one invocation: the patches' places, the indirect
+                                         dispatch of C_SCATTER and C_EVAL */
+#define CROSS_RECONSTRUCT_C_SCATTER 6u /* per pair (indirect): its place in patch order */
+#define CROSS_RECONSTRUCT_C_EVAL 5u   /* per pair in patch order (indirect): F (B_s - P(C, s, e)) */
+
+/* One (element, patch) pair of phase C: the patch's form factor to the
+ * element where it sees it; C_EVAL writes value. */
+struct cross_pair {
+    uint element, patch_index;
+    float ff;
+    uint pad0;
+    vec4 value;
+};
+
+/* The most pairs one element keeps while it looks (C_PAIRS). */
+#define CROSS_PAIRS_LOCAL 64u
+
+/* ranges[e].y where element e has no pairs of its own to sum */
+#define CROSS_RANGE_SKIP 0xffffffffu   /* M, or buried: phase C leaves it */
+#define CROSS_RANGE_HIDDEN 0xfffffffeu /* covered by a patch (covered()) */
+#define CROSS_RANGE_INLINE 0xfffffffdu /* the list was full, or the element sees more than
+                                          CROSS_PAIRS_LOCAL patches: phase C loops */
+
+struct cross_pair_state {
+    uint count;       /* pairs asked for (may pass the capacity) */
+    uint listed;      /* pairs in the list (C_ARGS) */
+    uint pad0, pad1;
+    uint scatter[4];  /* VkDispatchIndirectCommand of C_SCATTER (every slot asked for), a pad */
+    uint eval[4];     /* that of C_EVAL (the pairs listed), a pad */
+};
 
 #define CROSS_RECONSTRUCT_GROUP 64u
 
@@ -141,7 +184,7 @@ struct cross_reconstruct_push {
     uint light_count;      /* light patches (0: the light bindings are placeholders) */
     float grid_ff;         /* a pair of form factor F below this gets
                               ceil(grid sqrt(F / grid_ff)) rays a side, at least 1 */
-    uint pad1;
+    uint pair_capacity;    /* cross_pair entries of the list; 0: no list (cross_pairs off) */
 };
 
 #endif

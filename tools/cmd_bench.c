@@ -393,8 +393,9 @@ xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *sce
     if (st)
         return st;
     double *wall = calloc(o->repeat, sizeof(double)), *gpu = calloc(o->repeat, sizeof(double));
-    /* Work per timed frame: hemicubes, host waits, submissions. */
-    double work[3] = {0, 0, 0};
+    /* Work per timed frame: hemicubes, host waits, submissions, cross's
+     * listed pairs. */
+    double work[4] = {0, 0, 0, 0};
     pass_frames pf = {0};
     method_result r = {0};
     float *img = NULL;
@@ -422,6 +423,7 @@ xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *sce
             work[0] += r.stats.hemicubes;
             work[1] += r.stats.host_waits;
             work[2] += r.stats.submissions;
+            work[3] += (double)r.stats.cross_pairs;
             if (!pass_frames_add(&pf, &r.stats, k, o->repeat))
                 st = cli_fail(err, XRAD_ERROR_SYSTEM, "bench: out of memory");
         }
@@ -464,6 +466,8 @@ xrad_status bench_one(xrad_context *ctx, const char *path, const xrad_scene *sce
     cJSON_AddNumberToObject(row, "hemicubes_per_frame", work[0] / o->repeat);
     cJSON_AddNumberToObject(row, "host_waits_per_frame", work[1] / o->repeat);
     cJSON_AddNumberToObject(row, "submissions_per_frame", work[2] / o->repeat);
+    /* cross with cross_pairs on: the (element, patch) pairs traced; 0 without the list */
+    cJSON_AddNumberToObject(row, "cross_pairs_per_frame", work[3] / o->repeat);
     cJSON_AddNumberToObject(row, "hemicubes", r.gpu ? r.stats.hemicubes : 0);
     cJSON_AddNumberToObject(row, "shots", r.gpu ? r.stats.shots : 0);
     cJSON_AddNumberToObject(row, "iterations", r.gpu ? r.stats.iterations : r.ref.sweeps);

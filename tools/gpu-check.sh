@@ -580,6 +580,12 @@ def assemble(tmpd, out, started, elapsed, budget, build, device, scenes, methods
             continue
         rows += d.get("rows", [])
         ratios += d.get("ratios", [])
+    pair_rows = []
+    for i, s in enumerate(scene_list):
+        try:
+            pair_rows += json.load(open(os.path.join(tmpd, "pairs-%d.json" % i))).get("rows", [])
+        except (OSError, ValueError):
+            continue
     bench_paths = sorted({r.get("hemicube_path") for r in rows if r.get("hemicube_path") not in (None, "-")})
     path = probe_path or (bench_paths[0] if bench_paths else None)
     suite = None
@@ -614,7 +620,8 @@ def assemble(tmpd, out, started, elapsed, budget, build, device, scenes, methods
         "steps": steps,
         "suite": suite,
         "bench": {"scenes": scene_list, "methods": method_list, "repeat": int(repeat),
-                  "rows": rows, "ratios": ratios, "failed_scenes": failed_scenes},
+                  "rows": rows, "ratios": ratios, "failed_scenes": failed_scenes,
+                  "cross_pairs_on_rows": pair_rows},
         "readme_table": table,
     }
     def clean(v):  # strict JSON: NaN and infinities as null
@@ -651,6 +658,11 @@ def assemble(tmpd, out, started, elapsed, budget, build, device, scenes, methods
                 r.get("scene"), r.get("method"), fmt_ms(r.get("frame_ms")), fmt_ms(r.get("gpu_ms")),
                 fmt_err(r.get("nrmse")), fmt_err(r.get("surface_error")), passes))
         print("\n" + table)
+    for r in pair_rows:
+        passes = " ".join("%s %s" % (k, fmt_ms(v)) for k, v in (r.get("passes") or {}).items())
+        print("%-28s %-12s %10s %10s %8s %8s  %s" % (
+            r.get("scene"), "cross+pairs", fmt_ms(r.get("frame_ms")), fmt_ms(r.get("gpu_ms")),
+            fmt_err(r.get("nrmse")), fmt_err(r.get("surface_error")), passes))
     if failed_scenes:
         print("bench failed on: %s" % " ".join(failed_scenes))
     return 0
@@ -770,7 +782,10 @@ if [ ! -x "$XRAD" ]; then
     finish
 fi
 missing=
-if ! ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1' &&
+# What the dynamic loader finds for the binary first (a stale ld.so.cache
+# lists no loader that the default directories hold), then the cache.
+if ! ldd "$XRAD" 2>/dev/null | grep -q 'libvulkan\.so\.1 => /' &&
+    ! ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1' &&
     ! { [ -n "${LD_LIBRARY_PATH:-}" ] && printf '%s' "$LD_LIBRARY_PATH" | tr ':' '\n' |
         while read -r d; do [ -n "$d" ] && [ -e "$d/libvulkan.so.1" ] && echo y; done | grep -q y; }; then
     echo "gpu-check: no Vulkan loader (libvulkan.so.1) in ldconfig -p or LD_LIBRARY_PATH"
@@ -933,6 +948,24 @@ if [ "$DO_BENCH" = 1 ]; then
         fi
         i=$((i + 1))
     done
+    # Cross's pair list (--cross-pairs on) beside the default loop, where
+    # the bench left time: on lavapipe the list costs more than it saves
+    # (README "The cross projection's work"); a GPU decides its default.
+    case ",$METHODS," in *,cross,*)
+        i=0
+        for s in "${scene_arr[@]}"; do
+            left=$((bench_end - SECONDS))
+            if [ -f "$s" ] && [ "$left" -gt 5 ]; then
+                args=("$s" --methods cross --repeat "$REPEAT" --cache "$CACHE" --cross-pairs on
+                    --json "$TMPD/pairs-$i.json" "${DEV_ARGS[@]}")
+                [ -z "$MAX_REF" ] || args+=(--max-reference-elements "$MAX_REF")
+                echo "\$ xrad bench ${args[*]}" >>"$LOGDIR/bench.txt"
+                timeout -k 10 "$left" "$XRAD" bench "${args[@]}" >>"$LOGDIR/bench.txt" 2>&1 ||
+                    rm -f "$TMPD/pairs-$i.json"
+            fi
+            i=$((i + 1))
+        done ;;
+    esac
     echo "$failed" >"$TMPD/bench-failed.txt"
     if [ -z "$failed" ]; then
         step bench ok $((SECONDS - t0)) "${#scene_arr[@]} scenes"

@@ -309,6 +309,13 @@ void method_print_passes(const method_result *r, const char *what)
     if (s->redistribute_ms > 0)
         printf("redistribution %.1f ms of %.1f ms (host wall time)\n", s->redistribute_ms,
                s->wall_ms);
+    if (s->cross_pairs)
+        printf("cross projection: %llu (element, patch) pairs listed and traced, %llu left to "
+               "loops (the list was full)\n",
+               (unsigned long long)s->cross_pairs, (unsigned long long)s->cross_pairs_unlisted);
+    if (s->cross_rescaled)
+        printf("cross: %u redistributions made again at a new hemicube scale\n",
+               s->cross_rescaled);
 }
 
 int method_surface_emits(const xrad_scene *scene, uint32_t index)

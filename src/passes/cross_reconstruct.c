@@ -1,5 +1,6 @@
 #include "passes/cross_reconstruct.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 
 #include "core/error.h"
@@ -9,6 +10,7 @@
 
 struct cross_reconstruct_pass {
     gpu_kernel kernel;
+    const gpu_buffer *pair_state; /* C_EVAL's indirect dispatch */
 };
 
 xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,
@@ -73,7 +75,13 @@ void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *p,
         [CROSS_RECONSTRUCT_BINDING_LIGHT_IDS] = {NULL, b->light_ids},
         [CROSS_RECONSTRUCT_BINDING_BVH_NODES] = {b->bvh_nodes, 0},
         [CROSS_RECONSTRUCT_BINDING_BVH_ITEMS] = {b->bvh_items, 0},
+        [CROSS_RECONSTRUCT_BINDING_PAIRS] = {b->pairs, 0},
+        [CROSS_RECONSTRUCT_BINDING_RANGES] = {b->ranges, 0},
+        [CROSS_RECONSTRUCT_BINDING_PAIR_STATE] = {b->pair_state, 0},
+        [CROSS_RECONSTRUCT_BINDING_ORDER] = {b->order, 0},
+        [CROSS_RECONSTRUCT_BINDING_PATCH_LISTS] = {b->patch_lists, 0},
     };
+    p->pair_state = b->pair_state;
     gpu_kernel_bind(ctx, &p->kernel, 0, r);
 }
 
@@ -96,6 +104,16 @@ void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
         .count = q->count ? q->count : q->element_count - q->first,
         .light_count = q->light_count,
         .grid_ff = (float)q->grid_ff,
+        .pair_capacity = q->pair_capacity,
     };
-    gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, push.count, CROSS_RECONSTRUCT_GROUP);
+    if (q->phase == CROSS_RECONSTRUCT_C_ARGS)
+        gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, 1, CROSS_RECONSTRUCT_GROUP);
+    else if (q->phase == CROSS_RECONSTRUCT_C_SCATTER)
+        gpu_kernel_dispatch_indirect(&p->kernel, cmd, 0, &push, p->pair_state,
+                                     offsetof(struct cross_pair_state, scatter));
+    else if (q->phase == CROSS_RECONSTRUCT_C_EVAL)
+        gpu_kernel_dispatch_indirect(&p->kernel, cmd, 0, &push, p->pair_state,
+                                     offsetof(struct cross_pair_state, eval));
+    else
+        gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, push.count, CROSS_RECONSTRUCT_GROUP);
 }

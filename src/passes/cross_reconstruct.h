@@ -1,12 +1,14 @@
 /*
  * Cross reconstruct pass (DESIGN.md "GPU passes", "Cross-project"; thesis
- * Algorithm 4.4 lines 15-20 and Algorithm 4.5): one compute invocation per
- * element, looping over every patch of the dynamic set M, in two phases.
- * Elements of M receive the patches' total radiosity through the ID
- * hemicubes (R_p(M, M) by reshooting); elements of C receive eq. 3.3.1,
- * R_p(M, C) + R_x(C, C), with PROJECTEDRADIOSITY over a grid x grid ray
- * grid REPROJECTed through the back hemicubes, in place of what the last
- * redistribution gave them (spirv/cross_reconstruct.comp says how).
+ * Algorithm 4.4 lines 15-20 and Algorithm 4.5). Elements of M receive the
+ * patches' total radiosity through the ID hemicubes (R_p(M, M) by
+ * reshooting), one invocation per element looping over the patches;
+ * elements of C receive eq. 3.3.1, R_p(M, C) + R_x(C, C), with
+ * PROJECTEDRADIOSITY over up to grid x grid rays REPROJECTed through the
+ * back hemicubes, in place of what the last redistribution gave them: the
+ * (element, patch) pairs that see each other are listed first and the rays
+ * are traced per pair, one invocation each (spirv/cross_reconstruct.comp
+ * says how).
  */
 #ifndef XRAD_PASSES_CROSS_RECONSTRUCT_H
 #define XRAD_PASSES_CROSS_RECONSTRUCT_H
@@ -41,10 +43,17 @@ typedef struct cross_reconstruct_bindings {
     /* The hierarchy over the surfaces at the pose (gpu_bvh_node[], uint[];
      * radiosity.h) for segment tests against every surface. */
     const gpu_buffer *bvh_nodes, *bvh_items;
+    /* Phase C's pair list: struct cross_pair[pair_capacity], uvec2[element_count]
+     * and struct cross_pair_state (STORAGE, INDIRECT; its count zeroed
+     * before each C_PAIRS). */
+    const gpu_buffer *pairs, *ranges, *pair_state;
+    /* uint[pair_capacity] and uint[3 patch_count] (zeroed before each
+     * C_PAIRS): the pairs in patch order. */
+    const gpu_buffer *order, *patch_lists;
 } cross_reconstruct_bindings;
 
 typedef struct cross_reconstruct_params {
-    uint32_t phase; /* CROSS_RECONSTRUCT_M or CROSS_RECONSTRUCT_C */
+    uint32_t phase; /* CROSS_RECONSTRUCT_* */
     uint32_t element_count, patch_count, light_count;
     uint32_t hemicube_res, back_res;
     uint32_t grid;          /* PROJECTEDRADIOSITY rays per side, at most */
@@ -57,6 +66,7 @@ typedef struct cross_reconstruct_params {
      * may be cut into several submissions. */
     uint32_t first, count;
     bool exact_texel_only; /* no nearest-texel check (XRAD_ID_CHECK_EXACT) */
+    uint32_t pair_capacity; /* entries of the pair list */
 } cross_reconstruct_params;
 
 xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,
@@ -69,7 +79,9 @@ void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *pa
                             const cross_reconstruct_bindings *b);
 
 /* The caller orders the hemicube renders and the value updates before it
- * and the readers of B and Bu after it. */
+ * and the readers of B and Bu after it. Phase C is five dispatches with
+ * barriers between: C_PAIRS (the state's count and the patch lists zeroed
+ * before), C_ARGS, C_SCATTER and C_EVAL (indirect, from the state) and C. */
 void cross_reconstruct_record(cross_reconstruct_pass *pass, VkCommandBuffer cmd,
                               const cross_reconstruct_params *params);
 

@@ -53,6 +53,16 @@ LAYOUT(cross_value, total, 0);
 SIZE(cross_value, 16);
 LAYOUT(cross_quad, corner, 0);
 SIZE(cross_quad, 64);
+LAYOUT(cross_pair, element, 0);
+LAYOUT(cross_pair, patch_index, 4);
+LAYOUT(cross_pair, ff, 8);
+LAYOUT(cross_pair, value, 16);
+SIZE(cross_pair, 32);
+LAYOUT(cross_pair_state, count, 0);
+LAYOUT(cross_pair_state, listed, 4);
+LAYOUT(cross_pair_state, scatter, 16);
+LAYOUT(cross_pair_state, eval, 32);
+SIZE(cross_pair_state, 48);
 LAYOUT(cross_update_push, mode, 0);
 LAYOUT(cross_update_push, count, 4);
 LAYOUT(cross_update_push, element_count, 8);
@@ -73,7 +83,7 @@ LAYOUT(cross_reconstruct_push, first, 44);
 LAYOUT(cross_reconstruct_push, count, 48);
 LAYOUT(cross_reconstruct_push, light_count, 52);
 LAYOUT(cross_reconstruct_push, grid_ff, 56);
-LAYOUT(cross_reconstruct_push, pad1, 60);
+LAYOUT(cross_reconstruct_push, pair_capacity, 60);
 SIZE(cross_reconstruct_push, 64);
 
 /* spirv/direct_shared.h */

@@ -95,6 +95,11 @@ static const setting settings[] = {
       "256 triangles or more, not gather's hemicubes",
       XRAD_SETTING_CHOICE, XRAD_CULL_AUTO, 1, 3, "on|off|auto", 0},
      SOLVER(cull), RULE_NONE},
+    {{"cross_pairs",
+      "cross: list the (element, patch) pairs that see each other and trace the projection "
+      "per listed pair, in patch order, rather than per element over every patch",
+      XRAD_SETTING_CHOICE, XRAD_CROSS_PAIRS_OFF, 1, 2, "off|on", 0},
+     SOLVER(cross_pairs), RULE_NONE},
     {{"density_scale", "every element density of the scene file times this (at load)",
       XRAD_SETTING_REAL, 1, 0, 16, NULL, 1},
      offsetof(xrad_quality, density_scale), RULE_NONE},
@@ -285,11 +290,11 @@ static const struct {
     double v[SETTING_COUNT];
 } presets[] = {
     /*        res msaa id  subdiv max  thresh unshot batch shots grid grid_ff back bmsaa fmt
-                                                                          amb cons cull density */
-    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 8, 1, 1, 2, 1, 0, 0.5}},
-    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 16, 4, 1, 2, 1, 0, 1}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 32, 4, 1, 1, 1, 0, 1}},
-    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 64, 4, 2, 1, 1, 0, 2}},
+                                                                     amb cons cull pairs density */
+    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 8, 1, 1, 2, 1, 0, 1, 0.5}},
+    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 16, 4, 1, 2, 1, 0, 1, 1}},
+    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 32, 4, 1, 1, 1, 0, 1, 1}},
+    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 64, 4, 2, 1, 1, 0, 1, 2}},
 };
 
 const char *xrad_quality_preset_list(void)

@@ -77,6 +77,7 @@
 #include "passes/hemicube_geometry.h"
 #include "passes/integrate.h"
 #include "radiosity.h"
+#include "solvers/cross.h"
 #include "solvers/dynamic_patches.h"
 #include "solvers/progressive.h"
 #include "solvers/solver.h"
@@ -95,6 +96,10 @@
  * value shown would pass 256 x 16 or fall below 256 / 16, still far inside
  * fp16's range, so no light is lost by it either. */
 #define SCALE_SLACK 16.0
+
+/* The most (element, patch) pairs the cross projection lists per submission
+ * (32 bytes each): elements past it loop over the patches themselves. */
+#define PAIR_CAPACITY_MAX (1u << 20)
 
 typedef struct cross {
     progressive *prog;
@@ -120,6 +125,12 @@ typedef struct cross {
     gpu_buffer peak;          /* uint, host-visible: largest |B - Bu - E| on C (float bits) */
     gpu_buffer light_frames;  /* gpu_shooter[L] */
     gpu_buffer light_quads;   /* struct cross_quad[L] */
+    gpu_buffer pairs;         /* struct cross_pair[pair_capacity] */
+    gpu_buffer ranges;        /* uvec2[element_count]: each element's pairs */
+    gpu_buffer pair_state;    /* struct cross_pair_state, host-visible: the count read back */
+    gpu_buffer order;         /* uint[pair_capacity]: the pairs in patch order */
+    gpu_buffer patch_lists;   /* uint[3 P] */
+    uint32_t pair_capacity;
     double diameter;          /* m, the scale of the hemicubes' near plane and distances,
                                  fixed at create (the posed scene's diameter changes) */
     double scale;             /* the radiosity hemicubes hold values x this (HEMICUBE_PEAK) */
@@ -144,7 +155,9 @@ static void destroy(xrad_solver *s)
     cross_reconstruct_destroy(ctx, &c->reconstruct);
     gpu_buffer *buffers[] = {&c->patches, &c->values,       &c->gathered,   &c->surface_patch,
                              &c->shot,    &c->inserted,     &c->frames,     &c->quads,
-                             &c->light_frames, &c->light_quads, &c->peak};
+                             &c->light_frames, &c->light_quads, &c->peak,
+                             &c->pairs,   &c->ranges,       &c->pair_state,
+                             &c->order,   &c->patch_lists};
     for (size_t k = 0; k < sizeof(buffers) / sizeof(buffers[0]); k++)
         gpu_buffer_destroy(ctx, buffers[k]);
     dynamic_patches_free(&c->dp);
@@ -225,6 +238,11 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     size_t element_bytes = (size_t)gs->element_count * sizeof(vec4);
+    uint64_t most_pairs = (uint64_t)gs->element_count * P;
+    c->pair_capacity = most_pairs < PAIR_CAPACITY_MAX ? (uint32_t)most_pairs : PAIR_CAPACITY_MAX;
+    bool listed = d->cross_pairs == XRAD_CROSS_PAIRS_ON && c->pair_capacity;
+    if (!listed)
+        c->pair_capacity = 0;
     xrad_status st;
     if ((st = gpu_buffer_create(ctx, P * sizeof(struct cross_patch), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->patches, err)) ||
@@ -260,6 +278,25 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
         return st;
     if (c->L && (st = create_lights(s, c, err)))
         return st;
+    if (listed &&
+        ((st = gpu_buffer_create(ctx, (VkDeviceSize)c->pair_capacity * sizeof(struct cross_pair),
+                                 storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEM_DEVICE,
+                                 GPU_MEM_REDISTRIBUTION, &c->pairs, err)) ||
+         (st = gpu_buffer_create(ctx, (VkDeviceSize)gs->element_count * 2 * sizeof(uint32_t),
+                                 storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEM_DEVICE,
+                                 GPU_MEM_REDISTRIBUTION, &c->ranges, err)) ||
+         (st = gpu_buffer_create(ctx, (VkDeviceSize)c->pair_capacity * sizeof(uint32_t),
+                                 storage, GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &c->order,
+                                 err)) ||
+         (st = gpu_buffer_create(ctx, 3 * P * sizeof(uint32_t), storage, GPU_MEM_DEVICE,
+                                 GPU_MEM_REDISTRIBUTION, &c->patch_lists, err)) ||
+         (st = gpu_buffer_create(ctx, sizeof(struct cross_pair_state),
+                                 storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                                 GPU_MEM_READBACK, GPU_MEM_REDISTRIBUTION, &c->pair_state,
+                                 err))))
+        return st;
+    /* Without the list its bindings are placeholders: pair_capacity 0 reads none. */
+    const gpu_buffer *none = &c->values;
     cross_update_bind(ctx, c->update,
                       &(cross_update_bindings){&gs->surfaces, &gs->elements, &gs->materials,
                                                &gs->B, &gs->Bu, &c->patches, &c->values,
@@ -274,7 +311,9 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                                c->L ? &c->light_quads : &c->values,
                                hemicube_ids_view(c->L ? c->light_ids_c : c->ids),
                                hemicube_ids_view(c->L ? c->light_ids : c->ids),
-                               &gs->bvh_nodes, &gs->bvh_items});
+                               &gs->bvh_nodes, &gs->bvh_items, listed ? &c->pairs : none,
+                               listed ? &c->ranges : none, listed ? &c->pair_state : none,
+                               listed ? &c->order : none, listed ? &c->patch_lists : none});
     return XRAD_OK;
 }
 
@@ -413,12 +452,13 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     s->stats.hemicubes += 3 * P + c->L;
 }
 
-/* Phase `phase` of the cross reconstruct pass for elements [first, first + count). */
-static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t phase,
-                               uint32_t first, uint32_t count)
+/* Phase `phase` of the cross reconstruct pass for elements [first, first +
+ * count), timed as `timer`. */
+static void record_phase(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t phase,
+                         uint32_t first, uint32_t count, const char *timer)
 {
     full_barrier(cmd);
-    gpu_timer_begin(s->timer, cmd, "cross.reconstruct");
+    gpu_timer_begin(s->timer, cmd, timer);
     cross_reconstruct_record(c->reconstruct, cmd,
                              &(cross_reconstruct_params){
                                  .phase = phase,
@@ -436,8 +476,42 @@ static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, ui
                                  .first = first,
                                  .count = count,
                                  .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
+                                 .pair_capacity = c->pair_capacity,
                              });
     gpu_timer_end(s->timer, cmd);
+}
+
+static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t phase,
+                               uint32_t first, uint32_t count)
+{
+    record_phase(s, c, cmd, phase, first, count, "cross.reconstruct");
+}
+
+/* Step 5 for elements [first, first + count): the pairs that see each
+ * other listed (cross.pairs), then traced one invocation each and summed
+ * per element (cross.reconstruct). */
+static void record_step5(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t first,
+                         uint32_t count)
+{
+    full_barrier(cmd);
+    vkCmdFillBuffer(cmd, c->pair_state.buffer, 0, sizeof(uint32_t), 0);
+    vkCmdFillBuffer(cmd, c->patch_lists.buffer, 0, VK_WHOLE_SIZE, 0);
+    record_phase(s, c, cmd, CROSS_RECONSTRUCT_C_PAIRS, first, count, "cross.pairs");
+    record_phase(s, c, cmd, CROSS_RECONSTRUCT_C_ARGS, 0, 1, "cross.pairs");
+    record_phase(s, c, cmd, CROSS_RECONSTRUCT_C_SCATTER, 0, 0, "cross.pairs");
+    record_reconstruct(s, c, cmd, CROSS_RECONSTRUCT_C_EVAL, 0, 0);
+    record_reconstruct(s, c, cmd, CROSS_RECONSTRUCT_C, first, count);
+}
+
+/* The pairs the last step 5 submission listed, into the stats. */
+static void count_pairs(xrad_solver *s, const cross *c)
+{
+    if (!c->pair_capacity)
+        return;
+    const struct cross_pair_state *st = c->pair_state.alloc.mapped;
+    s->stats.cross_pairs += st->count;
+    if (st->count > c->pair_capacity)
+        s->stats.cross_pairs_unlisted += st->count - c->pair_capacity;
 }
 
 static xrad_status run(xrad_solver *s, gpu_cmd *cmd, xrad_error *err)
@@ -485,14 +559,23 @@ static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error
     for (uint32_t first = 0; first < n;) {
         uint32_t count = slice && slice < n - first ? slice : n - first;
         if (slice) {
-            if ((st = run(s, &cmd, err)) || (st = gpu_cmd_begin(s->ctx, &cmd, err)))
+            if ((st = run(s, &cmd, err)))
+                return st;
+            if (first)
+                count_pairs(s, c);
+            if ((st = gpu_cmd_begin(s->ctx, &cmd, err)))
                 return st;
             gpu_timer_start(s->timer, cmd.cmd);
         }
-        record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_C, first, count);
+        if (c->pair_capacity)
+            record_step5(s, c, cmd.cmd, first, count);
+        else
+            record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_C, first, count);
         first += count;
     }
-    return run(s, &cmd, err);
+    if (!(st = run(s, &cmd, err)))
+        count_pairs(s, c);
+    return st;
 }
 
 /* Steps 1-5 at scene time t: one submission, or with desc.slice_elements,
@@ -570,6 +653,51 @@ static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
     st = progressive_run(s, c->prog, false, s->desc.frame_shots, err);
     solver_collect_times(s);
     return st;
+}
+
+xrad_status cross_read_pairs(xrad_solver *s, cross_pair_readback *out, xrad_error *err)
+{
+    memset(out, 0, sizeof(*out));
+    cross *c = s->desc.method == XRAD_METHOD_CROSS ? s->impl : NULL;
+    if (!c || !c->pair_capacity)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "cross_read_pairs: not a cross solver with "
+                                                "cross_pairs on and dynamic objects");
+    const struct cross_pair_state *ps = c->pair_state.alloc.mapped;
+    uint32_t n = ps->count < c->pair_capacity ? ps->count : c->pair_capacity;
+    out->patch_count = c->P;
+    out->element_count = s->gs.element_count;
+    out->pair_count = n;
+    out->pairs = malloc((n ? n : 1) * sizeof(*out->pairs));
+    out->ranges = malloc((size_t)(out->element_count ? out->element_count : 1) * 2 *
+                         sizeof(*out->ranges));
+    out->quads = malloc(c->P * sizeof(*out->quads));
+    out->fronts = malloc(c->P * sizeof(*out->fronts));
+    xrad_status st = XRAD_OK;
+    if (!out->pairs || !out->ranges || !out->quads || !out->fronts)
+        st = xrad_fail(err, XRAD_ERROR_SYSTEM, "cross_read_pairs: out of host memory");
+    if (!st && n)
+        st = gpu_readback_buffer(s->ctx, &c->pairs, 0, out->pairs, n * sizeof(*out->pairs), err);
+    if (!st)
+        st = gpu_readback_buffer(s->ctx, &c->ranges, 0, out->ranges,
+                                 (size_t)out->element_count * 2 * sizeof(*out->ranges), err);
+    if (!st) {
+        memcpy(out->quads, c->quads.alloc.mapped, c->P * sizeof(*out->quads));
+        memcpy(out->fronts, (const struct gpu_shooter *)c->frames.alloc.mapped +
+                                frames_first(c, CROSS_FRAMES_FRONT),
+               c->P * sizeof(*out->fronts));
+    } else {
+        cross_pair_readback_free(out);
+    }
+    return st;
+}
+
+void cross_pair_readback_free(cross_pair_readback *r)
+{
+    free(r->pairs);
+    free(r->ranges);
+    free(r->quads);
+    free(r->fronts);
+    memset(r, 0, sizeof(*r));
 }
 
 const solver_ops cross_ops = {create, solve, destroy, advance};
