@@ -661,9 +661,10 @@ typedef struct xrad_solver_desc {
     /* cross: XRAD_CROSS_PAIRS_ON lists, per patch, the elements of C that
      * see it (compaction and indirect dispatch), and traces the projection's
      * rays one invocation per listed pair in patch order; OFF (default 0)
-     * loops over every patch per element, tracing where it sees it. On
-     * lavapipe (8 lanes, atomics on the CPU) listing costs more than the
-     * idle lanes it saves: 1.7-1.9 times the projection's time. */
+     * loops over every patch per element, tracing where it sees it. The
+     * solution is the same to the bit. On lavapipe (8 lanes, atomics on
+     * the CPU) listing costs more than the idle lanes it saves: cornell-
+     * large's projection took 524 ms a frame against 290 (README). */
     uint32_t cross_pairs;
     /* Progress of the long parts, on the calling thread: gather's direct
      * light (at create) and its bounces, progressive's shots (per batch;
