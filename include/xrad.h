@@ -798,8 +798,9 @@ typedef struct xrad_solver_stats {
      * of each. */
     uint32_t cross_patches, cross_light_patches;
     /* cross: redistributions made twice because the scale of the radiosity
-     * hemicubes, taken from the last one, was more than 16x off (an emission
-     * changed); each frame's redistribution otherwise has no host wait for it */
+     * hemicubes, taken from the last one, was more than 16x off (C's light
+     * changed that much in a frame); a frame's redistribution otherwise has
+     * no host wait for it */
     uint32_t cross_rescaled;
     /* cross: (element of C, patch) pairs that see each other, whose rays
      * the cross projection traced, over the call; and those of them the

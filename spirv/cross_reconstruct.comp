@@ -1,7 +1,8 @@
 #version 450
 // Cross redistribution, the shooting half (src/passes/cross_reconstruct.c;
 // thesis Algorithm 4.4 lines 15-20 and Algorithm 4.5), in dispatches
-// (phase) of one invocation per element, except C_ARGS and C_EVAL:
+// (phase) of one invocation per element, except C_ARGS, C_SCATTER and
+// C_EVAL:
 //
 //  CROSS_RECONSTRUCT_M_DIRECT, element of M: rho x the direct light of the
 //  lights of C, through their ID hemicubes with M (lit_direct), into B;
@@ -11,14 +12,17 @@
 //  total), into B alone: the patches' totals are taken again after this,
 //  and that is how M's light reaches C (Bu of M stays 0);
 //
+//  with cross_pairs on, before phase C (issue 16.1):
 //  CROSS_RECONSTRUCT_C_PAIRS, element e of C: the patches that see it
 //  (facing, the nearest-texel check in their ID hemicubes), as pairs in a
-//  list, with their form factors; CROSS_RECONSTRUCT_C_ARGS writes the
-//  indirect dispatch of CROSS_RECONSTRUCT_C_EVAL, one invocation per pair:
-//  F (B_s' - P(C, s', e)), the projection below. Only the pairs that see
-//  each other cost rays (issue 16.1): a loop over every patch per element
-//  leaves the invocations whose patch is hidden idle beside those that
-//  trace, a warp's or lavapipe's 8 lanes together;
+//  list, with their form factors, and a count per patch;
+//  CROSS_RECONSTRUCT_C_ARGS, one invocation: the patches' first places
+//  (the prefix sum of their counts) and the indirect dispatches;
+//  CROSS_RECONSTRUCT_C_SCATTER, per pair: its place in patch order;
+//  CROSS_RECONSTRUCT_C_EVAL, per pair in that order: F (B_s' - P(C, s',
+//  e)), the projection below. Only the pairs that see each other cost
+//  rays, with no lane idle beside one that traces; without the list
+//  (cross_pairs off) phase C loops over every patch itself;
 //
 //  CROSS_RECONSTRUCT_C, element e of C (R_p(M, C) + R_x(C, C), the
 //  new-pose half of eq. 3.3.1 as DESIGN.md writes it), summing its pairs:

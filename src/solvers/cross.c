@@ -590,8 +590,9 @@ static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error
  * first redistribution of a solve measures it first, in a submission of
  * its own; later ones use the last measure and check it after the fact
  * (issue 16.4: no host wait in the frame for it). Where it was off by more
- * than SCALE_SLACK (an emission changed) steps 1-5 are made again at the
- * right scale. That is exact: step 5 adds the same change to B and Bu of
+ * than SCALE_SLACK (C's light changed that much in a frame: a lamp of M
+ * came close, tests/solvers/test_cross_scale.c) steps 1-5 are made again
+ * at the right scale. That is exact: step 5 adds the same change to B and Bu of
  * C, so the B - Bu - E the reset measures is the same the second time, and
  * the second step 5 replaces what the first inserted. */
 static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *err)

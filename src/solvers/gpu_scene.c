@@ -196,9 +196,11 @@ typedef struct pose_part {
     size_t bytes;
 } pose_part;
 
-/* The parts through gs->pose_staging, in one submission nobody waits for
- * (issue 16.4: five uploads, each with a staging buffer of its own and a
- * host wait, were repeated at every frame of every method). */
+/* The parts: written in place where the device memory is mapped (a CPU
+ * device, or a GPU's host-visible device memory), the others through
+ * gs->pose_staging in one submission nobody waits for (issue 16.4: five
+ * uploads, each with a staging buffer of its own and a host wait, were
+ * repeated at every frame of every method). */
 static xrad_status upload_pose(struct xrad_context *ctx, gpu_scene *gs, const pose_part *parts,
                                uint32_t count, xrad_error *err)
 {
@@ -206,8 +208,14 @@ static xrad_status upload_pose(struct xrad_context *ctx, gpu_scene *gs, const po
     if (s)
         return s;
     VkDeviceSize total = 0;
-    for (uint32_t i = 0; i < count; i++)
-        total += (parts[i].bytes + 255) & ~(VkDeviceSize)255;
+    for (uint32_t i = 0; i < count; i++) {
+        if (parts[i].dst->alloc.mapped)
+            memcpy(parts[i].dst->alloc.mapped, parts[i].data, parts[i].bytes);
+        else
+            total += (parts[i].bytes + 255) & ~(VkDeviceSize)255;
+    }
+    if (!total)
+        return XRAD_OK;
     if (gs->pose_staging.size < total) {
         gpu_buffer_destroy(ctx, &gs->pose_staging);
         if ((s = gpu_buffer_create(ctx, total, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEM_UPLOAD,
@@ -218,6 +226,8 @@ static xrad_status upload_pose(struct xrad_context *ctx, gpu_scene *gs, const po
         return s;
     VkDeviceSize at = 0;
     for (uint32_t i = 0; i < count; i++) {
+        if (parts[i].dst->alloc.mapped)
+            continue;
         memcpy((char *)gs->pose_staging.alloc.mapped + at, parts[i].data, parts[i].bytes);
         VkBufferCopy region = {.srcOffset = at, .dstOffset = 0, .size = parts[i].bytes};
         vkCmdCopyBuffer(gs->pose_cmd.cmd, gs->pose_staging.buffer, parts[i].dst->buffer, 1,

@@ -569,12 +569,11 @@ static xrad_status redistribute(xrad_solver *s, incremental *inc, double time, x
     if (st)
         return st;
     /* The GPU is done: the geometry may be replaced. The pose upload's
-     * one-shot copies are submissions the host waits for: count them from
-     * the context's submission counter. */
+     * copies (where the device memory is not mapped) are a submission the
+     * host does not wait for: count it from the context's counter. */
     uint64_t before = ctx->timeline_value;
     st = gpu_scene_pose(ctx, &s->gs, time, err);
     s->stats.submissions += (uint32_t)(ctx->timeline_value - before);
-    s->stats.host_waits += (uint32_t)(ctx->timeline_value - before);
     if (st)
         return st;
     pose_m_frames(s, inc);
@@ -594,7 +593,6 @@ static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
         uint64_t before = s->ctx->timeline_value;
         st = gpu_scene_pose(s->ctx, &s->gs, time, err);
         s->stats.submissions += (uint32_t)(s->ctx->timeline_value - before);
-        s->stats.host_waits += (uint32_t)(s->ctx->timeline_value - before);
     }
     s->stats.redistribute_ms = now_ms() - t0;
     /* Step 4 (thesis 4.4.1 "Overview"): R_p(M, M) and the second part of
