@@ -619,6 +619,14 @@ typedef struct xrad_solver_desc {
      * F gets ceil(cross_grid sqrt(F / cross_grid_ff)) a side, at least 1
      * (few rays far away, the full grid near). (0, 1]; default 0.02. */
     double cross_grid_ff;
+    /* cross: pairs (receiver of C, patch of M) left out of the projection
+     * (issue 16.1): a pair whose term F (B_s - P) can be at most
+     * F max(B_s, Pmax) drops out where that is below cross_cut x Rmax,
+     * Pmax the largest radiosity of C the back hemicubes show and Rmax the
+     * larger of Pmax and every patch's B_s (F <= 1: no pair can carry
+     * more). Each element loses at most cross_cut x Rmax x rho per patch.
+     * [0, 0.1]; default 0 = no pair left out. */
+    double cross_cut;
     /* cross: pixels per face side of the back hemicubes (thesis 4.5.2),
      * even, 8..256; default 16. */
     uint32_t back_res;

@@ -103,6 +103,7 @@ layout(std430, binding = CROSS_RECONSTRUCT_BINDING_ORDER) buffer Order { uint or
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PATCH_LISTS) buffer PatchLists {
     uint patch_lists[];
 };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PEAK) readonly buffer Peak { uint peak_bits; };
 
 gpu_shooter frame(uint table, uint p)
 {
@@ -353,6 +354,40 @@ vec3 blocked_direct(vec3 x, vec3 ne, uint id)
     return sum;
 }
 
+// The contribution bound (issue 16.1, xrad.h cross_cut). A pair's term
+// F (B_s - P) is at most F max(B_s, Pmax) (radiosities are not negative;
+// P is a weighted mean of what the back hemicubes show, at most Pmax, the
+// largest |B - Bu - E| of C measured this redistribution), and no pair's
+// can pass Rmax = max(Pmax, every B_s), since F <= 1. A pair is left out
+// where its bound is below pc.cut x Rmax: an element loses at most
+// rho x pc.cut x Rmax per patch, and nothing where pc.cut is 0.
+float largest(vec3 v)
+{
+    return max(max(abs(v.r), abs(v.g)), abs(v.b));
+}
+
+float shown_peak()
+{
+    float p = uintBitsToFloat(peak_bits);
+    return p > 0.0 && !isinf(p) ? p : 0.0;
+}
+
+// pc.cut x Rmax; 0 where nothing is left out.
+float cut_level()
+{
+    if (pc.cut <= 0.0)
+        return 0.0;
+    float r = shown_peak();
+    for (uint p = 0u; p < pc.patch_count; p++)
+        r = max(r, largest(values[p].total.rgb));
+    return pc.cut * r;
+}
+
+bool kept(uint p, float ff, float level)
+{
+    return level <= 0.0 || ff * max(largest(values[p].total.rgb), shown_peak()) >= level;
+}
+
 // Element e's receiver point and normal.
 void receiver(uint e, out vec3 x, out vec3 ne)
 {
@@ -372,13 +407,14 @@ void list_pairs(uint e, vec3 x, vec3 ne, uint id)
     uint local_patch[CROSS_PAIRS_LOCAL];
     float local_ff[CROSS_PAIRS_LOCAL];
     uint n = 0u;
+    float level = cut_level();
     for (uint p = 0u; p < pc.patch_count; p++) {
         if (covered(p, x, ne, CONTACT * pc.diameter)) {
             ranges[e] = uvec2(0u, CROSS_RANGE_HIDDEN);
             return;
         }
         float f = seen(p, x, ne, id);
-        if (f > 0.0) {
+        if (f > 0.0 && kept(p, f, level)) {
             if (n == CROSS_PAIRS_LOCAL) {
                 ranges[e] = uvec2(0u, CROSS_RANGE_INLINE);
                 return;
@@ -496,6 +532,7 @@ void main()
     uvec2 range = dynamic || pc.pair_capacity == 0u ? uvec2(0u, CROSS_RANGE_INLINE) : ranges[e];
     bool hidden = range.y == CROSS_RANGE_HIDDEN;
     if (range.y == CROSS_RANGE_INLINE) {
+        float level = dynamic ? 0.0 : cut_level();
         for (uint p = 0u; p < pc.patch_count; p++) {
             if (dynamic && frame(CROSS_FRAMES_FRONT, p).surface == se)
                 continue;
@@ -504,7 +541,7 @@ void main()
                 break;
             }
             float f = seen(p, x, ne, id);
-            if (f > 0.0)
+            if (f > 0.0 && kept(p, f, level))
                 gathered += f * (dynamic ? values[p].total.rgb
                                          : values[p].total.rgb - projected(p, x, ne, f));
         }

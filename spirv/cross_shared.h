@@ -126,7 +126,10 @@ struct cross_update_push {
  * that order, the places taken. */
 #define CROSS_RECONSTRUCT_BINDING_ORDER 20
 #define CROSS_RECONSTRUCT_BINDING_PATCH_LISTS 21
-#define CROSS_RECONSTRUCT_BINDING_COUNT 22
+/* uint: the largest |B - Bu - E| of C as float bits (cross_update.comp's
+ * INDIRECT_C): the most the back hemicubes show (pc.cut). */
+#define CROSS_RECONSTRUCT_BINDING_PEAK 22
+#define CROSS_RECONSTRUCT_BINDING_COUNT 23
 
 /* cross_reconstruct.comp phases */
 #define CROSS_RECONSTRUCT_M_DIRECT 0u /* elements of M: the direct light of C's lights */
@@ -185,6 +188,8 @@ struct cross_reconstruct_push {
     float grid_ff;         /* a pair of form factor F below this gets
                               ceil(grid sqrt(F / grid_ff)) rays a side, at least 1 */
     uint pair_capacity;    /* cross_pair entries of the list; 0: no list (cross_pairs off) */
+    float cut;             /* a pair of C whose term can be at most this share of the
+                              largest radiosity is left out (xrad.h cross_cut); 0: none */
 };
 
 #endif

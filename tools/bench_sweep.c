@@ -40,6 +40,7 @@ static const struct {
     {"frame_shots", "8,32,0", M_INCREMENTAL | M_CROSS},
     {"cross_grid", "1,2,4,8", M_CROSS},
     {"cross_grid_ff", "0.005,0.05,0.2", M_CROSS},
+    {"cross_cut", "0.001,0.01", M_CROSS},
     {"cross_pairs", "off,on", M_CROSS},
     {"back_res", "8,16,32", M_CROSS},
     {"back_msaa", "1,4", M_CROSS},

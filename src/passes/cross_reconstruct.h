@@ -50,6 +50,8 @@ typedef struct cross_reconstruct_bindings {
     /* uint[pair_capacity] and uint[3 patch_count] (zeroed before each
      * C_PAIRS): the pairs in patch order. */
     const gpu_buffer *order, *patch_lists;
+    /* uint: the largest |B - Bu - E| of C (float bits), for params.cut. */
+    const gpu_buffer *peak;
 } cross_reconstruct_bindings;
 
 typedef struct cross_reconstruct_params {
@@ -67,6 +69,7 @@ typedef struct cross_reconstruct_params {
     uint32_t first, count;
     bool exact_texel_only; /* no nearest-texel check (XRAD_ID_CHECK_EXACT) */
     uint32_t pair_capacity; /* entries of the pair list */
+    double cut;             /* pairs of C left out below this bound (xrad.h cross_cut) */
 } cross_reconstruct_params;
 
 xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,

@@ -84,7 +84,8 @@ LAYOUT(cross_reconstruct_push, count, 48);
 LAYOUT(cross_reconstruct_push, light_count, 52);
 LAYOUT(cross_reconstruct_push, grid_ff, 56);
 LAYOUT(cross_reconstruct_push, pair_capacity, 60);
-SIZE(cross_reconstruct_push, 64);
+LAYOUT(cross_reconstruct_push, cut, 64);
+SIZE(cross_reconstruct_push, 68);
 
 /* spirv/direct_shared.h */
 LAYOUT(direct_push, first, 0);

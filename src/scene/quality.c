@@ -71,6 +71,11 @@ static const setting settings[] = {
       "below it ceil(cross_grid sqrt(F / this)), at least 1",
       XRAD_SETTING_REAL, 0.02, 0, 1, NULL, 1},
      SOLVER(cross_grid_ff), RULE_NONE},
+    {{"cross_cut",
+      "cross: leave out a (receiver, patch) pair whose term F (B_s - P) can be at most this "
+      "share of the largest radiosity on the patches or C's back hemicubes (0: none)",
+      XRAD_SETTING_REAL, 0, 0, 0.1, NULL, 0},
+     SOLVER(cross_cut), RULE_ZERO_OK},
     {{"back_res", "cross: back hemicube face side, even (thesis 4.5.2)", XRAD_SETTING_INTEGER,
       16, 8, 256, NULL, 0},
      SOLVER(back_res), RULE_EVEN},
@@ -289,12 +294,12 @@ static const struct {
     const char *name;
     double v[SETTING_COUNT];
 } presets[] = {
-    /*        res msaa id  subdiv max  thresh unshot batch shots grid grid_ff back bmsaa fmt
+    /*        res msaa id  subdiv max  thresh unshot batch shots grid grid_ff cut back bmsaa fmt
                                                                      amb cons cull pairs density */
-    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 8, 1, 1, 2, 1, 0, 1, 0.5}},
-    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 16, 4, 1, 2, 1, 0, 1, 1}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 32, 4, 1, 1, 1, 0, 1, 1}},
-    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 64, 4, 2, 1, 1, 0, 1, 2}},
+    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 0, 8, 1, 1, 2, 1, 0, 1, 0.5}},
+    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 0, 16, 4, 1, 2, 1, 0, 1, 1}},
+    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 1, 0, 1, 1}},
+    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 1, 0, 1, 2}},
 };
 
 const char *xrad_quality_preset_list(void)

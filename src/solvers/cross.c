@@ -246,7 +246,8 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
     xrad_status st;
     if ((st = gpu_buffer_create(ctx, P * sizeof(struct cross_patch), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->patches, err)) ||
-        (st = gpu_buffer_create(ctx, P * sizeof(struct cross_value), storage, GPU_MEM_DEVICE,
+        (st = gpu_buffer_create(ctx, P * sizeof(struct cross_value),
+                                storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->values, err)) ||
         (st = gpu_buffer_create(ctx, 3 * P * sizeof(vec4), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->gathered, err)) ||
@@ -313,7 +314,8 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                                hemicube_ids_view(c->L ? c->light_ids : c->ids),
                                &gs->bvh_nodes, &gs->bvh_items, listed ? &c->pairs : none,
                                listed ? &c->ranges : none, listed ? &c->pair_state : none,
-                               listed ? &c->order : none, listed ? &c->patch_lists : none});
+                               listed ? &c->order : none, listed ? &c->patch_lists : none,
+                               &c->peak});
     return XRAD_OK;
 }
 
@@ -477,6 +479,7 @@ static void record_phase(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t
                                  .count = count,
                                  .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
                                  .pair_capacity = c->pair_capacity,
+                                 .cut = s->desc.cross_cut,
                              });
     gpu_timer_end(s->timer, cmd);
 }
@@ -673,14 +676,19 @@ xrad_status cross_read_pairs(xrad_solver *s, cross_pair_readback *out, xrad_erro
                          sizeof(*out->ranges));
     out->quads = malloc(c->P * sizeof(*out->quads));
     out->fronts = malloc(c->P * sizeof(*out->fronts));
+    out->values = malloc(c->P * sizeof(*out->values));
+    memcpy(&out->peak, c->peak.alloc.mapped, sizeof(out->peak));
     xrad_status st = XRAD_OK;
-    if (!out->pairs || !out->ranges || !out->quads || !out->fronts)
+    if (!out->pairs || !out->ranges || !out->quads || !out->fronts || !out->values)
         st = xrad_fail(err, XRAD_ERROR_SYSTEM, "cross_read_pairs: out of host memory");
     if (!st && n)
         st = gpu_readback_buffer(s->ctx, &c->pairs, 0, out->pairs, n * sizeof(*out->pairs), err);
     if (!st)
         st = gpu_readback_buffer(s->ctx, &c->ranges, 0, out->ranges,
                                  (size_t)out->element_count * 2 * sizeof(*out->ranges), err);
+    if (!st)
+        st = gpu_readback_buffer(s->ctx, &c->values, 0, out->values,
+                                 c->P * sizeof(*out->values), err);
     if (!st) {
         memcpy(out->quads, c->quads.alloc.mapped, c->P * sizeof(*out->quads));
         memcpy(out->fronts, (const struct gpu_shooter *)c->frames.alloc.mapped +
@@ -698,6 +706,7 @@ void cross_pair_readback_free(cross_pair_readback *r)
     free(r->ranges);
     free(r->quads);
     free(r->fronts);
+    free(r->values);
     memset(r, 0, sizeof(*r));
 }
 

@@ -21,6 +21,8 @@ typedef struct cross_pair_readback {
                                    (elements of M: not written) */
     struct cross_quad *quads;   /* [patch_count]: world corners at that pose */
     struct gpu_shooter *fronts; /* [patch_count]: centre and normal */
+    struct cross_value *values; /* [patch_count]: the totals step 5 used */
+    float peak;                 /* the largest |B - Bu - E| of C it used (cross_cut) */
 } cross_pair_readback;
 
 /* A cross solver made with cross_pairs on, after a solve or an advance. */
