@@ -674,6 +674,13 @@ typedef struct xrad_solver_desc {
      * the CPU) listing costs more than the idle lanes it saves: cornell-
      * large's projection took 524 ms a frame against 290 (README). */
     uint32_t cross_pairs;
+    /* cross: XRAD_BACK_MIPS_ON reads the back hemicubes through mip levels
+     * chosen per ray by the width of the cone it stands for where it meets
+     * what lies behind the patch (thesis 6.2: mipmapped back hemicubes
+     * against undersampling), so that a far receiver's few rays read the
+     * mean of what the patch hides rather than a few texels of it; levels
+     * halve back_res while it stays even. OFF: level 0 alone. */
+    uint32_t back_mips;
     /* Progress of the long parts, on the calling thread: gather's direct
      * light (at create) and its bounces, progressive's shots (per batch;
      * fraction: how far the unshot power has come down, on a log scale,
@@ -698,6 +705,11 @@ enum {
 enum {
     XRAD_CROSS_PAIRS_OFF = 1,
     XRAD_CROSS_PAIRS_ON = 2,
+};
+
+enum {
+    XRAD_BACK_MIPS_OFF = 1,
+    XRAD_BACK_MIPS_ON = 2,
 };
 
 enum {

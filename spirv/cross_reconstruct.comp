@@ -58,7 +58,12 @@
 // The distance is read at the nearest texel; radiosity bilinearly (unless
 // pc.bilinear is 0), and a tap beyond a face's edge is turned back into a
 // direction and read from the face it falls on (thesis 4.5.2: "care must
-// be taken with the edges of the hemicube").
+// be taken with the edges of the hemicube"). With pc.back_levels the
+// radiosity comes from the mip level that matches the width of the cone
+// the ray stands for (thesis 6.2, back_radiosity() below).
+//
+// With pc.cut a pair whose term is bounded below a share of the frame's
+// largest radiosity is left out (cut_level(), kept()).
 //
 // Visibility, receiver point and form factor are those of the reconstruct
 // pass (spirv/shooting.glsl).
@@ -67,6 +72,7 @@
 #include "radiosity.h"
 #include "cross_shared.h"
 #include "hemicube.glsl"
+#include "back_mips.glsl"
 
 layout(local_size_x = CROSS_RECONSTRUCT_GROUP) in;
 
@@ -104,6 +110,12 @@ layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PATCH_LISTS) buffer PatchList
     uint patch_lists[];
 };
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_PEAK) readonly buffer Peak { uint peak_bits; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_BACK_MIPS) readonly buffer BackMips {
+    vec4 back_mips[];
+};
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_LIGHT_LAYERS) readonly buffer LightLayers {
+    uint light_layers[];
+};
 
 gpu_shooter frame(uint table, uint p)
 {
@@ -119,48 +131,75 @@ mat3 basis(gpu_shooter f)
     return transpose(mat3(x, cross(z, x), z));
 }
 
-// Samples of the back hemicube of patch p in local direction d (d.z > 0):
-// rgb the shot radiosity x scale, a the distance / diameter. Nearest, or
-// bilinear with taps beyond a face's edge turned back into directions and
-// read from the face they fall on.
-vec4 back_nearest(uint p, vec3 d)
+// Texel px of layer `layer` of the back hemicubes at mip level k (0: the
+// hemicube itself; above, spirv/back_mips.glsl).
+vec4 back_texel(int layer, ivec2 px, uint k)
 {
-    vec2 t;
-    int face = hemicube_face(d, pc.back_res, t);
-    ivec2 px = clamp(ivec2(floor(t)), ivec2(0), ivec2(int(pc.back_res) - 1));
-    return texelFetch(back, ivec3(px, int(p) * HEMICUBE_FACES + face), 0);
+    if (k == 0u)
+        return texelFetch(back, ivec3(px, layer), 0);
+    uint r = pc.back_res >> k;
+    return back_mips[uint(layer) * back_mip_layer_texels(pc.back_res, pc.back_levels) +
+                     back_mip_first(pc.back_res, k) + uint(px.y) * r + uint(px.x)];
 }
 
-vec4 back_bilinear(uint p, vec3 d)
+// Samples of the back hemicube of patch p in local direction d (d.z > 0)
+// at level k: rgb the shot radiosity x scale, a the distance / diameter.
+// Nearest, or bilinear with taps beyond a face's edge turned back into
+// directions and read from the face they fall on.
+vec4 back_nearest(uint p, vec3 d, uint k)
 {
     vec2 t;
-    int face = hemicube_face(d, pc.back_res, t);
+    uint res = pc.back_res >> k;
+    int face = hemicube_face(d, res, t);
+    ivec2 px = clamp(ivec2(floor(t)), ivec2(0), ivec2(int(res) - 1));
+    return back_texel(int(p) * HEMICUBE_FACES + face, px, k);
+}
+
+vec4 back_bilinear(uint p, vec3 d, uint k)
+{
+    vec2 t;
+    uint res = pc.back_res >> k;
+    int face = hemicube_face(d, res, t);
     int base = int(p) * HEMICUBE_FACES;
-    int last = int(pc.back_res) - 1;
+    int last = int(res) - 1;
     t -= 0.5;
     ivec2 t0 = ivec2(floor(t));
     vec2 f = t - vec2(t0);
     vec4 c[4];
     if (all(greaterThanEqual(t0, ivec2(0))) && all(lessThan(t0, ivec2(last)))) {
         int l = base + face;
-        c[0] = texelFetch(back, ivec3(t0, l), 0);
-        c[1] = texelFetch(back, ivec3(t0 + ivec2(1, 0), l), 0);
-        c[2] = texelFetch(back, ivec3(t0 + ivec2(0, 1), l), 0);
-        c[3] = texelFetch(back, ivec3(t0 + ivec2(1, 1), l), 0);
+        c[0] = back_texel(l, t0, k);
+        c[1] = back_texel(l, t0 + ivec2(1, 0), k);
+        c[2] = back_texel(l, t0 + ivec2(0, 1), k);
+        c[3] = back_texel(l, t0 + ivec2(1, 1), k);
     } else {
-        for (int k = 0; k < 4; k++) {
-            ivec2 tap = t0 + ivec2(k & 1, k >> 1);
-            vec2 tab = (vec2(tap) + 0.5) / float(pc.back_res) * 2.0 - 1.0;
+        for (int n = 0; n < 4; n++) {
+            ivec2 tap = t0 + ivec2(n & 1, n >> 1);
+            vec2 tab = (vec2(tap) + 0.5) / float(res) * 2.0 - 1.0;
             vec3 dir = HEMICUBE_FORWARD[face] + tab.x * HEMICUBE_RIGHT[face] +
                        tab.y * HEMICUBE_UP[face];
             dir.z = max(dir.z, 1e-6);
             vec2 q;
-            int qf = hemicube_face(dir, pc.back_res, q);
+            int qf = hemicube_face(dir, res, q);
             ivec2 qi = clamp(ivec2(floor(q)), ivec2(0), ivec2(last));
-            c[k] = texelFetch(back, ivec3(qi, base + qf), 0);
+            c[n] = back_texel(base + qf, qi, k);
         }
     }
     return mix(mix(c[0], c[1], f.x), mix(c[2], c[3], f.x), f.y);
+}
+
+// The shot radiosity the back hemicube of patch p shows toward d, at level
+// of detail lod (0: the hemicube's texels): between the two nearest mip
+// levels, each read as pc.bilinear says.
+vec3 back_radiosity(uint p, vec3 d, float lod)
+{
+    uint k = uint(lod);
+    vec3 v = pc.bilinear != 0u ? back_bilinear(p, d, k).rgb : back_nearest(p, d, k).rgb;
+    float f = lod - float(k);
+    if (f > 0.0 && k < pc.back_levels)
+        v = mix(v, pc.bilinear != 0u ? back_bilinear(p, d, k + 1u).rgb
+                                     : back_nearest(p, d, k + 1u).rgb, f);
+    return v;
 }
 
 // PROJECTEDRADIOSITY(s, e), above, for a pair of form factor ff. The rays
@@ -184,6 +223,7 @@ vec3 projected(uint p, vec3 x, vec3 ne, float ff)
     vec3 total = vec3(0.0);
     float weights = 0.0;
     float inv = 1.0 / float(n);
+    float cell = sqrt(bf.pos_area.w) * inv;
     for (uint gy = 0u; gy < n; gy++) {
         float tv = (float(gy) + 0.5) * inv;
         for (uint gx = 0u; gx < n; gx++) {
@@ -196,13 +236,32 @@ vec3 projected(uint p, vec3 x, vec3 ne, float ff)
                 continue;
             float w = max(dot(r, ne), 0.0) * dir.z / dot(ray, ray);
             weights += w;
-            float dist = back_nearest(p, dir).a * pc.diameter;
-            if (dist > 0.0)
+            float dist = back_nearest(p, dir, 0u).a * pc.diameter;
+            float lod = 0.0;
+            if (dist > 0.0) {
                 dir = to_local * (g + r * dist - c);
+                // Mips (thesis 6.2): the ray stands for a cell of side
+                // `cell` on the patch; the cone from x through it is
+                // cell (|ray| + dist) / |ray| wide where it meets what
+                // lies behind, seen from the hemicube's origin at |dir|
+                // over an angle of that / |dir|, which a face's texel
+                // (2 / res of the face at distance 1) divides into. The
+                // level is that of half the cone's width: a bilinear read
+                // spans two texels of its level, and a level's blocks lie
+                // on the face's grid, not centred on the ray. Against
+                // cross_grid 16 on cornell-large, the full width made
+                // element p95 17x worse at one ray a pair, half of it 1.5x
+                // better, a quarter as good as no mips (README).
+                if (pc.back_levels > 0u) {
+                    float along = length(ray);
+                    float texels = cell * (along + dist) / (along * max(length(dir), 1e-6)) *
+                                   0.25 * float(pc.back_res);
+                    lod = clamp(log2(max(texels, 1.0)), 0.0, float(pc.back_levels));
+                }
+            }
             if (dir.z <= 0.0)
                 continue;
-            total += w * (pc.bilinear != 0u ? back_bilinear(p, dir).rgb
-                                            : back_nearest(p, dir).rgb);
+            total += w * back_radiosity(p, dir, lod);
         }
     }
     return weights > 0.0 ? total * (pc.inv_scale / weights) : vec3(0.0);
@@ -281,6 +340,10 @@ vec3 lit_direct(vec3 x, vec3 ne, uint id)
 {
     vec3 sum = vec3(0.0);
     for (uint l = 0u; l < pc.light_count; l++) {
+        // M behind the light's plane: x, a point of M, is too.
+        uint layer = light_layers[l];
+        if (layer == CROSS_LIGHT_UNREACHED)
+            continue;
         vec3 d, local;
         vec2 cosines;
         gpu_shooter f = lights[l];
@@ -310,7 +373,7 @@ vec3 lit_direct(vec3 x, vec3 ne, uint id)
         // 7000 (test_extremes). Mesh faces seen edge-on from the light
         // still count through the depth rule.
         if (facing(f, x, ne, d, cosines, local) &&
-            shooting_visible(light_ids, pc.hemicube_res, pc.neighbours != 0u, local, l, id,
+            shooting_visible(light_ids, pc.hemicube_res, pc.neighbours != 0u, local, layer, id,
                              f.pos_area.xyz, x, false))
             sum += form_factor(f, lq, x, ne, d, cosines) * emission;
     }
@@ -342,10 +405,14 @@ vec3 blocked_direct(vec3 x, vec3 ne, uint id)
 {
     vec3 sum = vec3(0.0);
     for (uint l = 0u; l < pc.light_count; l++) {
+        // M behind the light's plane hides none of its light.
+        uint layer = light_layers[l];
+        if (layer == CROSS_LIGHT_UNREACHED)
+            continue;
         vec3 d, local;
         vec2 cosines;
         gpu_shooter f = lights[l];
-        if (facing(f, x, ne, d, cosines, local) && shows_m(light_ids, local, l) &&
+        if (facing(f, x, ne, d, cosines, local) && shows_m(light_ids, local, layer) &&
             shooting_visible(light_ids_c, pc.hemicube_res, pc.neighbours != 0u, local, l, id,
                              f.pos_area.xyz, x, false))
             sum += form_factor(f, light_quads[l], x, ne, d, cosines) *

@@ -129,7 +129,15 @@ struct cross_update_push {
 /* uint: the largest |B - Bu - E| of C as float bits (cross_update.comp's
  * INDIRECT_C): the most the back hemicubes show (pc.cut). */
 #define CROSS_RECONSTRUCT_BINDING_PEAK 22
-#define CROSS_RECONSTRUCT_BINDING_COUNT 23
+/* vec4[]: the back hemicubes' levels 1..back_levels (spirv/back_mips.glsl). */
+#define CROSS_RECONSTRUCT_BINDING_BACK_MIPS 23
+/* uint[light_count]: light l's hemicube in LIGHT_IDS (the lights whose
+ * view M can reach at the pose are drawn, one after another), or
+ * CROSS_LIGHT_UNREACHED: M lies behind the light's plane, so M neither
+ * takes its light nor hides any of it. */
+#define CROSS_RECONSTRUCT_BINDING_LIGHT_LAYERS 24
+#define CROSS_RECONSTRUCT_BINDING_COUNT 25
+#define CROSS_LIGHT_UNREACHED 0xffffffffu
 
 /* cross_reconstruct.comp phases */
 #define CROSS_RECONSTRUCT_M_DIRECT 0u /* elements of M: the direct light of C's lights */
@@ -190,6 +198,22 @@ struct cross_reconstruct_push {
     uint pair_capacity;    /* cross_pair entries of the list; 0: no list (cross_pairs off) */
     float cut;             /* a pair of C whose term can be at most this share of the
                               largest radiosity is left out (xrad.h cross_cut); 0: none */
+    uint back_levels;      /* mip levels of the back hemicubes above level 0 (0: none) */
+};
+
+/* Back hemicube mips (src/passes/back_mips.c, spirv/back_mips.comp; layout
+ * in spirv/back_mips.glsl). */
+#define BACK_MIPS_BINDING_BACK 0 /* RGBA16F/32F array, SHADER_READ_ONLY_OPTIMAL */
+#define BACK_MIPS_BINDING_MIPS 1 /* vec4[layers x levels' texels] */
+#define BACK_MIPS_BINDING_COUNT 2
+#define BACK_MIPS_GROUP 64u
+#define BACK_MIPS_MAX_LEVELS 8u
+
+struct back_mips_push {
+    uint res;    /* level 0's face side */
+    uint levels; /* levels made above level 0: res is divisible by 2^levels */
+    uint count;  /* invocations: layers x back_mip_layer_texels */
+    uint pad0;
 };
 
 #endif

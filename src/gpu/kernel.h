@@ -17,7 +17,7 @@
 
 struct xrad_context;
 
-#define GPU_KERNEL_MAX_BINDINGS 24
+#define GPU_KERNEL_MAX_BINDINGS 32
 #define GPU_KERNEL_MAX_SETS 4
 
 typedef struct gpu_kernel {

@@ -81,6 +81,8 @@ void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *p,
         [CROSS_RECONSTRUCT_BINDING_ORDER] = {b->order, 0},
         [CROSS_RECONSTRUCT_BINDING_PATCH_LISTS] = {b->patch_lists, 0},
         [CROSS_RECONSTRUCT_BINDING_PEAK] = {b->peak, 0},
+        [CROSS_RECONSTRUCT_BINDING_BACK_MIPS] = {b->back_mips, 0},
+        [CROSS_RECONSTRUCT_BINDING_LIGHT_LAYERS] = {b->light_layers, 0},
     };
     p->pair_state = b->pair_state;
     gpu_kernel_bind(ctx, &p->kernel, 0, r);
@@ -107,6 +109,7 @@ void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
         .grid_ff = (float)q->grid_ff,
         .pair_capacity = q->pair_capacity,
         .cut = (float)q->cut,
+        .back_levels = q->back_levels,
     };
     if (q->phase == CROSS_RECONSTRUCT_C_ARGS)
         gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, 1, CROSS_RECONSTRUCT_GROUP);

@@ -52,6 +52,12 @@ typedef struct cross_reconstruct_bindings {
     const gpu_buffer *order, *patch_lists;
     /* uint: the largest |B - Bu - E| of C (float bits), for params.cut. */
     const gpu_buffer *peak;
+    /* The back hemicubes' mips (passes/back_mips.h); any buffer where
+     * params.back_levels is 0. */
+    const gpu_buffer *back_mips;
+    /* uint[light_count]: each light's hemicube in light_ids or
+     * CROSS_LIGHT_UNREACHED (cross_shared.h); any buffer without lights. */
+    const gpu_buffer *light_layers;
 } cross_reconstruct_bindings;
 
 typedef struct cross_reconstruct_params {
@@ -70,6 +76,7 @@ typedef struct cross_reconstruct_params {
     bool exact_texel_only; /* no nearest-texel check (XRAD_ID_CHECK_EXACT) */
     uint32_t pair_capacity; /* entries of the pair list */
     double cut;             /* pairs of C left out below this bound (xrad.h cross_cut) */
+    uint32_t back_levels;   /* mip levels of the back hemicubes to read above 0 */
 } cross_reconstruct_params;
 
 xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,

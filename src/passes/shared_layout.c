@@ -85,7 +85,12 @@ LAYOUT(cross_reconstruct_push, light_count, 52);
 LAYOUT(cross_reconstruct_push, grid_ff, 56);
 LAYOUT(cross_reconstruct_push, pair_capacity, 60);
 LAYOUT(cross_reconstruct_push, cut, 64);
-SIZE(cross_reconstruct_push, 68);
+LAYOUT(cross_reconstruct_push, back_levels, 68);
+SIZE(cross_reconstruct_push, 72);
+LAYOUT(back_mips_push, res, 0);
+LAYOUT(back_mips_push, levels, 4);
+LAYOUT(back_mips_push, count, 8);
+SIZE(back_mips_push, 16);
 
 /* spirv/direct_shared.h */
 LAYOUT(direct_push, first, 0);

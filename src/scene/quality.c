@@ -105,6 +105,11 @@ static const setting settings[] = {
       "per listed pair, in patch order, rather than per element over every patch",
       XRAD_SETTING_CHOICE, XRAD_CROSS_PAIRS_OFF, 1, 2, "off|on", 0},
      SOLVER(cross_pairs), RULE_NONE},
+    {{"back_mips",
+      "cross: read the back hemicubes through mip levels chosen per ray by the width of "
+      "the cone it stands for behind the patch (thesis 6.2)",
+      XRAD_SETTING_CHOICE, XRAD_BACK_MIPS_OFF, 1, 2, "off|on", 0},
+     SOLVER(back_mips), RULE_NONE},
     {{"density_scale", "every element density of the scene file times this (at load)",
       XRAD_SETTING_REAL, 1, 0, 16, NULL, 1},
      offsetof(xrad_quality, density_scale), RULE_NONE},
@@ -295,11 +300,11 @@ static const struct {
     double v[SETTING_COUNT];
 } presets[] = {
     /*        res msaa id  subdiv max  thresh unshot batch shots grid grid_ff cut back bmsaa fmt
-                                                                     amb cons cull pairs density */
-    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 0, 8, 1, 1, 2, 1, 0, 1, 0.5}},
-    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 0, 16, 4, 1, 2, 1, 0, 1, 1}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 1, 0, 1, 1}},
-    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 1, 0, 1, 2}},
+                                                                     amb cons cull pairs mips density */
+    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 0, 8, 1, 1, 2, 1, 0, 1, 1, 0.5}},
+    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 0, 16, 4, 1, 2, 1, 0, 1, 1, 1}},
+    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 1, 0, 1, 1, 1}},
+    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 1, 0, 1, 1, 2}},
 };
 
 const char *xrad_quality_preset_list(void)

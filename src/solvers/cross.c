@@ -13,8 +13,10 @@
  *   2. Per patch: an ID hemicube on its front; a radiosity hemicube at its
  *      coarse sample (the gather of R_g(C, M)); a low-resolution radiosity
  *      + distance hemicube on its back, static geometry only (thesis
- *      4.5.2). Per light patch of C (its emitters, fixed blocks): an ID
- *      hemicube with M at the pose; the one of C alone was drawn at create.
+ *      4.5.2); its mips where back_mips is on (thesis 6.2). Per light
+ *      patch of C (its emitters, fixed blocks) whose plane has some of M
+ *      in front (light_reach): an ID hemicube with M at the pose; the one
+ *      of C alone was drawn at create.
  *   3. R_g(C, M): integrate the gather hemicubes; the elements of M take
  *      B = E + rho x (their surface's coarse samples, interpolated)
  *      (GATHERED), then rho x the direct light of C's lights through the
@@ -71,6 +73,7 @@
 #include "gpu/cmd.h"
 #include "gpu/context.h"
 #include "passes/atlas_scatter.h"
+#include "passes/back_mips.h"
 #include "passes/cross_reconstruct.h"
 #include "passes/cross_update.h"
 #include "passes/hemicube.h"
@@ -113,6 +116,8 @@ typedef struct cross {
     atlas_scatter_pass *scatter;
     cross_update_pass *update;
     cross_reconstruct_pass *reconstruct;
+    back_mips_pass *mips;     /* NULL where back_mips is off */
+    uint32_t back_levels;     /* mip levels above 0 the projection reads */
     gpu_buffer patches;       /* struct cross_patch[P] */
     gpu_buffer values;        /* struct cross_value[P] */
     gpu_buffer gathered;      /* vec4[3 P]: per patch the gathered sum, then its irradiance
@@ -125,11 +130,20 @@ typedef struct cross {
     gpu_buffer peak;          /* uint, host-visible: largest |B - Bu - E| on C (float bits) */
     gpu_buffer light_frames;  /* gpu_shooter[L] */
     gpu_buffer light_quads;   /* struct cross_quad[L] */
+    gpu_buffer reach_frames;  /* gpu_shooter[L], host-written per pose: the lights M can reach */
+    gpu_buffer light_layers;  /* uint[L], host-written per pose (cross_shared.h) */
+    struct gpu_shooter *light_host; /* [L]: the lights' frames */
+    uint32_t reach_count;     /* lights drawn with M at the pose (light_reach) */
+    bool reach_all;           /* every light drawn, M where it may be (tests) */
+    uint32_t m_objects;       /* dynamic objects */
+    uint32_t *m_object;       /* [m_objects]: their indices */
+    vec3 *m_box;              /* [2 m_objects]: their object-space bounds, lo and hi */
     gpu_buffer pairs;         /* struct cross_pair[pair_capacity] */
     gpu_buffer ranges;        /* uvec2[element_count]: each element's pairs */
     gpu_buffer pair_state;    /* struct cross_pair_state, host-visible: the count read back */
     gpu_buffer order;         /* uint[pair_capacity]: the pairs in patch order */
     gpu_buffer patch_lists;   /* uint[3 P] */
+    gpu_buffer back_mips;     /* the back hemicubes' mips (passes/back_mips.h) */
     uint32_t pair_capacity;
     double diameter;          /* m, the scale of the hemicubes' near plane and distances,
                                  fixed at create (the posed scene's diameter changes) */
@@ -153,17 +167,85 @@ static void destroy(xrad_solver *s)
     atlas_scatter_destroy(ctx, &c->scatter);
     cross_update_destroy(ctx, &c->update);
     cross_reconstruct_destroy(ctx, &c->reconstruct);
+    back_mips_destroy(ctx, &c->mips);
     gpu_buffer *buffers[] = {&c->patches, &c->values,       &c->gathered,   &c->surface_patch,
                              &c->shot,    &c->inserted,     &c->frames,     &c->quads,
                              &c->light_frames, &c->light_quads, &c->peak,
+                             &c->reach_frames, &c->light_layers,
                              &c->pairs,   &c->ranges,       &c->pair_state,
-                             &c->order,   &c->patch_lists};
+                             &c->order,   &c->patch_lists, &c->back_mips};
     for (size_t k = 0; k < sizeof(buffers) / sizeof(buffers[0]); k++)
         gpu_buffer_destroy(ctx, buffers[k]);
     dynamic_patches_free(&c->dp);
     dynamic_patches_free(&c->lights);
+    free(c->light_host);
+    free(c->m_object);
+    free(c->m_box);
     free(c);
     s->impl = NULL;
+}
+
+/* The dynamic objects' object-space bounds, for light_reach. */
+static xrad_status m_bounds(const xrad_scene *scene, cross *c, xrad_error *err)
+{
+    for (uint32_t o = 0; o < scene->object_count; o++)
+        c->m_objects += scene->objects[o].dynamic;
+    c->m_object = calloc(c->m_objects ? c->m_objects : 1, sizeof(*c->m_object));
+    c->m_box = calloc(2 * (c->m_objects ? c->m_objects : 1), sizeof(*c->m_box));
+    if (!c->m_object || !c->m_box)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory for the moving objects");
+    uint32_t m = 0;
+    for (uint32_t o = 0; o < scene->object_count; o++) {
+        const object *ob = &scene->objects[o];
+        if (!ob->dynamic)
+            continue;
+        vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+        for (uint32_t i = ob->first_surface; i < ob->first_surface + ob->surface_count; i++)
+            for (int k = 0; k < 4; k++) {
+                vec3 q = scene->surfaces[i].p[k];
+                lo = v3(fmin(lo.x, q.x), fmin(lo.y, q.y), fmin(lo.z, q.z));
+                hi = v3(fmax(hi.x, q.x), fmax(hi.y, q.y), fmax(hi.z, q.z));
+            }
+        c->m_object[m] = o;
+        c->m_box[2 * m] = lo;
+        c->m_box[2 * m + 1] = hi;
+        m++;
+    }
+    return XRAD_OK;
+}
+
+/* Issue 16.3: which lights' hemicubes with M are drawn at scene time t.
+ * A light whose plane has every corner of every moving object's posed
+ * bounds behind it (or on it, within 1e-6 of the scene's diameter) sees
+ * no part of M: its hemicube with M is its hemicube of C alone, no point
+ * of M faces it (M takes none of its light) and M hides none of it, so the
+ * projection leaves it out (CROSS_LIGHT_UNREACHED) and it is not drawn.
+ * The others' frames go to reach_frames one after another. */
+static void light_reach(xrad_solver *s, cross *c, double t)
+{
+    uint32_t *layer = c->light_layers.alloc.mapped;
+    struct gpu_shooter *drawn = c->reach_frames.alloc.mapped;
+    double tol = 1e-6 * c->diameter;
+    uint32_t n = 0;
+    for (uint32_t l = 0; l < c->L; l++) {
+        const struct gpu_shooter *f = &c->light_host[l];
+        vec3 centre = v3(f->pos_area.x, f->pos_area.y, f->pos_area.z);
+        vec3 normal = v3(f->normal.x, f->normal.y, f->normal.z);
+        bool reach = c->reach_all;
+        for (uint32_t m = 0; m < c->m_objects && !reach; m++) {
+            xform pose = scene_object_pose(s->scene, c->m_object[m], t);
+            const vec3 *box = &c->m_box[2 * m];
+            for (int k = 0; k < 8 && !reach; k++) {
+                vec3 q = xf_point(&pose, v3(box[k & 1].x, box[(k >> 1) & 1].y,
+                                            box[k >> 2].z));
+                reach = v3_dot(v3_sub(q, centre), normal) > -tol;
+            }
+        }
+        layer[l] = reach ? n : CROSS_LIGHT_UNREACHED;
+        if (reach)
+            drawn[n++] = *f;
+    }
+    c->reach_count = n;
 }
 
 /* The lights' frames, quads and ID hemicubes; those of C alone are drawn
@@ -180,6 +262,8 @@ static xrad_status create_lights(xrad_solver *s, cross *c, xrad_error *err)
         st = xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory for the lights");
         goto done;
     }
+    if ((st = m_bounds(s->scene, c, err)))
+        goto done;
     for (uint32_t l = 0; l < L; l++) {
         const struct cross_patch *p = &c->lights.patches[l];
         fixed_patch_frame(s->scene, p->surface, p->i0, p->i1, p->j0, p->j1, l, s->desc.seed,
@@ -197,6 +281,12 @@ static xrad_status create_lights(xrad_solver *s, cross *c, xrad_error *err)
                                 GPU_MEM_REDISTRIBUTION, &c->light_quads, err)) ||
         (st = gpu_upload_buffer(ctx, &c->light_frames, 0, f, L * sizeof(*f), err)) ||
         (st = gpu_upload_buffer(ctx, &c->light_quads, 0, q, L * sizeof(*q), err)) ||
+        (st = gpu_buffer_create(ctx, L * sizeof(*f), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                GPU_MEM_UPLOAD, GPU_MEM_REDISTRIBUTION, &c->reach_frames,
+                                err)) ||
+        (st = gpu_buffer_create(ctx, L * sizeof(uint32_t), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                                GPU_MEM_UPLOAD, GPU_MEM_REDISTRIBUTION, &c->light_layers,
+                                err)) ||
         (st = hemicube_create_desc(ctx, &ids, &c->light_ids_c, err)) ||
         (st = hemicube_create_desc(ctx, &ids, &c->light_ids, err)) ||
         (st = gpu_cmd_begin(ctx, &cmd, err)))
@@ -205,9 +295,16 @@ static xrad_status create_lights(xrad_solver *s, cross *c, xrad_error *err)
                     &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
                                      .index_count = gs->static_index_count,
                                      .frames = &c->light_frames, .count = L});
+    /* The hemicubes with M too, once, so that their image is in the layout
+     * the projection binds it in before any pose draws one (light_reach
+     * may leave them all out). */
+    hemicube_record(c->light_ids, cmd.cmd,
+                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
+                                     .index_count = gs->static_index_count,
+                                     .frames = &c->light_frames, .count = L});
     st = solver_submit_wait(s, &cmd, err);
 done:
-    free(f);
+    c->light_host = f;
     free(q);
     if (st)
         xrad_error_prefix(err, "lights");
@@ -296,7 +393,17 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                                  GPU_MEM_READBACK, GPU_MEM_REDISTRIBUTION, &c->pair_state,
                                  err))))
         return st;
-    /* Without the list its bindings are placeholders: pair_capacity 0 reads none. */
+    if (d->back_mips == XRAD_BACK_MIPS_ON && back_mips_levels(d->back_res)) {
+        c->back_levels = back_mips_levels(d->back_res);
+        if ((st = back_mips_create(ctx, &c->mips, err)) ||
+            (st = gpu_buffer_create(ctx, back_mips_bytes(d->back_res, P * HEMICUBE_FACES),
+                                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
+                                    GPU_MEM_REDISTRIBUTION, &c->back_mips, err)))
+            return st;
+        back_mips_bind(ctx, c->mips, hemicube_image(c->back)->view, &c->back_mips);
+    }
+    /* Without the list its bindings are placeholders: pair_capacity 0 reads none;
+     * so for the mips where back_levels is 0. */
     const gpu_buffer *none = &c->values;
     cross_update_bind(ctx, c->update,
                       &(cross_update_bindings){&gs->surfaces, &gs->elements, &gs->materials,
@@ -315,7 +422,8 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                                &gs->bvh_nodes, &gs->bvh_items, listed ? &c->pairs : none,
                                listed ? &c->ranges : none, listed ? &c->pair_state : none,
                                listed ? &c->order : none, listed ? &c->patch_lists : none,
-                               &c->peak});
+                               &c->peak, c->mips ? &c->back_mips : none,
+                               c->L ? &c->light_layers : none});
     return XRAD_OK;
 }
 
@@ -423,11 +531,11 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
                                      .index_count = gs->index_count,
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_FRONT), .count = P});
-    if (c->L)
+    if (c->reach_count)
         hemicube_record(c->light_ids, cmd,
                         &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
                                          .index_count = gs->index_count,
-                                         .frames = &c->light_frames, .count = c->L});
+                                         .frames = &c->reach_frames, .count = c->reach_count});
     gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.back");
     hemicube_record(c->back, cmd,
@@ -436,6 +544,10 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
                                      .frames = &c->frames,
                                      .first = frames_first(c, CROSS_FRAMES_BACK), .count = P,
                                      .atlas = &gs->atlas, .scale = (float)c->scale});
+    if (c->mips) {
+        full_barrier(cmd);
+        back_mips_record(c->mips, cmd, s->desc.back_res, P * HEMICUBE_FACES);
+    }
     gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.gather");
     hemicube_record(c->gather, cmd,
@@ -451,7 +563,7 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     compute_barrier(cmd);
     cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n);
     gpu_timer_end(s->timer, cmd);
-    s->stats.hemicubes += 3 * P + c->L;
+    s->stats.hemicubes += 3 * P + c->reach_count;
 }
 
 /* Phase `phase` of the cross reconstruct pass for elements [first, first +
@@ -480,6 +592,7 @@ static void record_phase(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t
                                  .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
                                  .pair_capacity = c->pair_capacity,
                                  .cut = s->desc.cross_cut,
+                                 .back_levels = c->back_levels,
                              });
     gpu_timer_end(s->timer, cmd);
 }
@@ -552,7 +665,7 @@ static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error
         gpu_timer_start(s->timer, cmd.cmd);
     }
     record_hemicubes(s, c, cmd.cmd);
-    if (c->L)
+    if (c->reach_count)
         record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_M_DIRECT, 0, n);
     full_barrier(cmd.cmd);
     cross_update_record(c->update, cmd.cmd, CROSS_UPDATE_TOTAL, c->P, n);
@@ -604,6 +717,8 @@ static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *
     dynamic_patches_pose(s->scene, &c->dp, t, s->desc.seed, f + CROSS_FRAMES_FRONT * c->P,
                          f + CROSS_FRAMES_BACK * c->P, f + CROSS_FRAMES_GATHER * c->P,
                          c->quads.alloc.mapped);
+    if (c->L)
+        light_reach(s, c, t);
     bool measure = !c->scale_known;
     xrad_status st = record_run(s, c, measure, err);
     if (st || measure) {
@@ -698,6 +813,12 @@ xrad_status cross_read_pairs(xrad_solver *s, cross_pair_readback *out, xrad_erro
         cross_pair_readback_free(out);
     }
     return st;
+}
+
+void cross_draw_every_light(xrad_solver *s)
+{
+    if (s->desc.method == XRAD_METHOD_CROSS && s->impl)
+        ((cross *)s->impl)->reach_all = true;
 }
 
 void cross_pair_readback_free(cross_pair_readback *r)

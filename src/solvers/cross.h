@@ -1,8 +1,10 @@
 /*
- * The cross solver's pair list, read back for tests (src/solvers/cross.c,
- * spirv/cross_reconstruct.comp): the (element, patch) pairs the last cross
- * projection listed, each element's range in them, and the patches at that
- * pose. Internal; the method itself is reached through xrad_solver_*.
+ * The cross solver's hooks for tests (src/solvers/cross.c,
+ * spirv/cross_reconstruct.comp): the pair list read back (the (element,
+ * patch) pairs the last cross projection listed, each element's range in
+ * them, the patches at that pose and what the contribution bound used),
+ * and every light drawn at every pose. Internal; the method itself is
+ * reached through xrad_solver_*.
  */
 #ifndef XRAD_SOLVERS_CROSS_H
 #define XRAD_SOLVERS_CROSS_H
@@ -29,5 +31,9 @@ typedef struct cross_pair_readback {
 xrad_status cross_read_pairs(xrad_solver *s, cross_pair_readback *out, xrad_error *err);
 /* Accepts a zeroed struct; zeroes it. */
 void cross_pair_readback_free(cross_pair_readback *r);
+
+/* Tests: every light's hemicube with M drawn and read at every pose, as
+ * if M could reach them all (what the cut by the lights' planes must equal). */
+void cross_draw_every_light(xrad_solver *s);
 
 #endif
