@@ -580,12 +580,14 @@ def assemble(tmpd, out, started, elapsed, budget, build, device, scenes, methods
             continue
         rows += d.get("rows", [])
         ratios += d.get("ratios", [])
-    pair_rows = []
-    for i, s in enumerate(scene_list):
-        try:
-            pair_rows += json.load(open(os.path.join(tmpd, "pairs-%d.json" % i))).get("rows", [])
-        except (OSError, ValueError):
-            continue
+    variant_rows = {"pairs": [], "mips1": []}
+    for v, vrows in variant_rows.items():
+        for i, s in enumerate(scene_list):
+            try:
+                vrows += json.load(open(os.path.join(tmpd, "%s-%d.json" % (v, i)))).get("rows", [])
+            except (OSError, ValueError):
+                continue
+    pair_rows = variant_rows["pairs"]
     bench_paths = sorted({r.get("hemicube_path") for r in rows if r.get("hemicube_path") not in (None, "-")})
     path = probe_path or (bench_paths[0] if bench_paths else None)
     suite = None
@@ -621,7 +623,8 @@ def assemble(tmpd, out, started, elapsed, budget, build, device, scenes, methods
         "suite": suite,
         "bench": {"scenes": scene_list, "methods": method_list, "repeat": int(repeat),
                   "rows": rows, "ratios": ratios, "failed_scenes": failed_scenes,
-                  "cross_pairs_on_rows": pair_rows},
+                  "cross_pairs_on_rows": pair_rows,
+                  "cross_back_mips_grid1_rows": variant_rows["mips1"]},
         "readme_table": table,
     }
     def clean(v):  # strict JSON: NaN and infinities as null
@@ -658,11 +661,12 @@ def assemble(tmpd, out, started, elapsed, budget, build, device, scenes, methods
                 r.get("scene"), r.get("method"), fmt_ms(r.get("frame_ms")), fmt_ms(r.get("gpu_ms")),
                 fmt_err(r.get("nrmse")), fmt_err(r.get("surface_error")), passes))
         print("\n" + table)
-    for r in pair_rows:
-        passes = " ".join("%s %s" % (k, fmt_ms(v)) for k, v in (r.get("passes") or {}).items())
-        print("%-28s %-12s %10s %10s %8s %8s  %s" % (
-            r.get("scene"), "cross+pairs", fmt_ms(r.get("frame_ms")), fmt_ms(r.get("gpu_ms")),
-            fmt_err(r.get("nrmse")), fmt_err(r.get("surface_error")), passes))
+    for label, vrows in (("cross+pairs", pair_rows), ("cross+mips1", variant_rows["mips1"])):
+        for r in vrows:
+            passes = " ".join("%s %s" % (k, fmt_ms(v)) for k, v in (r.get("passes") or {}).items())
+            print("%-28s %-12s %10s %10s %8s %8s  %s" % (
+                r.get("scene"), label, fmt_ms(r.get("frame_ms")), fmt_ms(r.get("gpu_ms")),
+                fmt_err(r.get("nrmse")), fmt_err(r.get("surface_error")), passes))
     if failed_scenes:
         print("bench failed on: %s" % " ".join(failed_scenes))
     return 0
@@ -948,22 +952,29 @@ if [ "$DO_BENCH" = 1 ]; then
         fi
         i=$((i + 1))
     done
-    # Cross's pair list (--cross-pairs on) beside the default loop, where
-    # the bench left time: on lavapipe the list costs more than it saves
-    # (README "The cross projection's work"); a GPU decides its default.
+    # Cross's options whose default a GPU decides, beside the default
+    # loop, where the bench left time (README "The cross projection's
+    # work"): the pair list (on lavapipe it costs more than it saves), then
+    # one ray a pair read through mipmapped back hemicubes.
     case ",$METHODS," in *,cross,*)
-        i=0
-        for s in "${scene_arr[@]}"; do
-            left=$((bench_end - SECONDS))
-            if [ -f "$s" ] && [ "$left" -gt 5 ]; then
-                args=("$s" --methods cross --repeat "$REPEAT" --cache "$CACHE" --cross-pairs on
-                    --json "$TMPD/pairs-$i.json" "${DEV_ARGS[@]}")
-                [ -z "$MAX_REF" ] || args+=(--max-reference-elements "$MAX_REF")
-                echo "\$ xrad bench ${args[*]}" >>"$LOGDIR/bench.txt"
-                timeout -k 10 "$left" "$XRAD" bench "${args[@]}" >>"$LOGDIR/bench.txt" 2>&1 ||
-                    rm -f "$TMPD/pairs-$i.json"
-            fi
-            i=$((i + 1))
+        for variant in pairs mips1; do
+            case $variant in
+            pairs) vargs=(--cross-pairs on) ;;
+            mips1) vargs=(--back-mips on --cross-grid 1) ;;
+            esac
+            i=0
+            for s in "${scene_arr[@]}"; do
+                left=$((bench_end - SECONDS))
+                if [ -f "$s" ] && [ "$left" -gt 5 ]; then
+                    args=("$s" --methods cross --repeat "$REPEAT" --cache "$CACHE" "${vargs[@]}"
+                        --json "$TMPD/$variant-$i.json" "${DEV_ARGS[@]}")
+                    [ -z "$MAX_REF" ] || args+=(--max-reference-elements "$MAX_REF")
+                    echo "\$ xrad bench ${args[*]}" >>"$LOGDIR/bench.txt"
+                    timeout -k 10 "$left" "$XRAD" bench "${args[@]}" >>"$LOGDIR/bench.txt" 2>&1 ||
+                        rm -f "$TMPD/$variant-$i.json"
+                fi
+                i=$((i + 1))
+            done
         done ;;
     esac
     echo "$failed" >"$TMPD/bench-failed.txt"
