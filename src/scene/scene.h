@@ -189,6 +189,9 @@ vec3 surface_point(const surface *s, double u, double v);
 /* Object space -> world for `object` at scene time `t` (see animation). */
 xform scene_object_pose(const xrad_scene *scene, uint32_t object, double t);
 
+/* The object-space bounds of `object`'s surfaces (every corner). */
+void scene_object_box(const xrad_scene *scene, uint32_t object, vec3 *lo, vec3 *hi);
+
 /* What xrad_scene_set_pose and xrad_scene_set_emission accept, checked
  * without changing the scene (the scheduler checks requests on the
  * application's thread while its worker poses the scene): *out receives

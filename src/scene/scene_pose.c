@@ -67,6 +67,19 @@ xform scene_object_pose(const xrad_scene *scene, uint32_t object_index, double t
     return pose;
 }
 
+void scene_object_box(const xrad_scene *scene, uint32_t object_index, vec3 *lo, vec3 *hi)
+{
+    const object *ob = &scene->objects[object_index];
+    *lo = v3(INFINITY, INFINITY, INFINITY);
+    *hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (uint32_t s = ob->first_surface; s < ob->first_surface + ob->surface_count; s++)
+        for (int k = 0; k < 4; k++) {
+            vec3 p = scene->surfaces[s].p[k];
+            *lo = v3(fmin(lo->x, p.x), fmin(lo->y, p.y), fmin(lo->z, p.z));
+            *hi = v3(fmax(hi->x, p.x), fmax(hi->y, p.y), fmax(hi->z, p.z));
+        }
+}
+
 void scene_surface_world(const xrad_scene *scene, uint32_t surface_index, double t,
                          vec3 corners[4], vec3 *normal)
 {

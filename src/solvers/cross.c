@@ -196,19 +196,10 @@ static xrad_status m_bounds(const xrad_scene *scene, cross *c, xrad_error *err)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory for the moving objects");
     uint32_t m = 0;
     for (uint32_t o = 0; o < scene->object_count; o++) {
-        const object *ob = &scene->objects[o];
-        if (!ob->dynamic)
+        if (!scene->objects[o].dynamic)
             continue;
-        vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
-        for (uint32_t i = ob->first_surface; i < ob->first_surface + ob->surface_count; i++)
-            for (int k = 0; k < 4; k++) {
-                vec3 q = scene->surfaces[i].p[k];
-                lo = v3(fmin(lo.x, q.x), fmin(lo.y, q.y), fmin(lo.z, q.z));
-                hi = v3(fmax(hi.x, q.x), fmax(hi.y, q.y), fmax(hi.z, q.z));
-            }
         c->m_object[m] = o;
-        c->m_box[2 * m] = lo;
-        c->m_box[2 * m + 1] = hi;
+        scene_object_box(scene, o, &c->m_box[2 * m], &c->m_box[2 * m + 1]);
         m++;
     }
     return XRAD_OK;

@@ -118,13 +118,8 @@ static bool same_group(const face_key *a, const face_key *b)
 /* Object-space bounding box diagonal of object o's surfaces. */
 static double object_diagonal(const xrad_scene *scene, const object *ob)
 {
-    vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
-    for (uint32_t s = ob->first_surface; s < ob->first_surface + ob->surface_count; s++)
-        for (int k = 0; k < 4; k++) {
-            vec3 p = scene->surfaces[s].p[k];
-            lo = v3(fmin(lo.x, p.x), fmin(lo.y, p.y), fmin(lo.z, p.z));
-            hi = v3(fmax(hi.x, p.x), fmax(hi.y, p.y), fmax(hi.z, p.z));
-        }
+    vec3 lo, hi;
+    scene_object_box(scene, (uint32_t)(ob - scene->objects), &lo, &hi);
     return v3_len(v3_sub(hi, lo));
 }
 

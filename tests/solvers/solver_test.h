@@ -22,4 +22,16 @@ static inline float *solver_test_render(xrad_context *ctx, const xrad_scene *sce
     return img;
 }
 
+/* The largest difference between two atlases' texels, relative to the
+ * largest texel of b; INFINITY where b is all zero. */
+static inline double solver_test_atlas_diff(const xrad_atlas *a, const xrad_atlas *b)
+{
+    double d = 0, top = 0;
+    for (size_t i = 0; i < (size_t)a->width * a->height * 4; i++) {
+        d = fmax(d, fabs((double)a->rgba[i] - b->rgba[i]));
+        top = fmax(top, fabs((double)b->rgba[i]));
+    }
+    return top > 0 ? d / top : INFINITY;
+}
+
 #endif

@@ -20,6 +20,7 @@
  *    twice that is listed; and some plainly visible pair below half of it
  *    is left out (the cut did something). */
 #include "gpu/gpu_test.h"
+#include "solver_test.h"
 #include "reference/ff_kernel.h"
 #include "reference/raycast.h"
 #include "scene/scene.h"
@@ -230,16 +231,6 @@ static void check_cut(const xrad_scene *scene, const cross_pair_readback *r)
           low);
 }
 
-static double max_rel_diff(const xrad_atlas *a, const xrad_atlas *b)
-{
-    double d = 0, top = 0;
-    for (size_t i = 0; i < (size_t)a->width * a->height * 4; i++) {
-        d = fmax(d, fabs((double)a->rgba[i] - b->rgba[i]));
-        top = fmax(top, fabs((double)b->rgba[i]));
-    }
-    return top > 0 ? d / top : INFINITY;
-}
-
 int main(void)
 {
     xrad_context *ctx = gpu_test_context();
@@ -277,7 +268,7 @@ int main(void)
         CHECK(xrad_solver_read(listed, &a, &err) == XRAD_OK &&
                   xrad_solver_read(looped, &b, &err) == XRAD_OK,
               "%s", err.message);
-        double d = max_rel_diff(&a, &b);
+        double d = solver_test_atlas_diff(&a, &b);
         printf("%s: listed against looped, largest difference %.2e of the largest value\n",
                when, d);
         CHECK(d < 1e-5, "%s: listed and looped differ by %.2e of the largest value", when, d);

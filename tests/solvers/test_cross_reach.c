@@ -9,6 +9,7 @@
  * 1e-5 of the largest radiosity, at each frame: the box behind the plane
  * neither takes the panel's light nor hides any of it. */
 #include "gpu/gpu_test.h"
+#include "solver_test.h"
 #include "scene/scene.h"
 #include "solvers/cross.h"
 #include "solvers/solver.h"
@@ -47,16 +48,6 @@ static xrad_solver *make(xrad_context *ctx, const xrad_scene *scene, bool every,
     return s;
 }
 
-static double max_rel_diff(const xrad_atlas *a, const xrad_atlas *b)
-{
-    double d = 0, top = 0;
-    for (size_t i = 0; i < (size_t)a->width * a->height * 4; i++) {
-        d = fmax(d, fabs((double)a->rgba[i] - b->rgba[i]));
-        top = fmax(top, fabs((double)b->rgba[i]));
-    }
-    return top > 0 ? d / top : INFINITY;
-}
-
 int main(void)
 {
     xrad_context *ctx = gpu_test_context();
@@ -89,7 +80,7 @@ int main(void)
         CHECK(xrad_solver_read(cut, &a, &err) == XRAD_OK &&
                   xrad_solver_read(every, &b, &err) == XRAD_OK,
               "%s", err.message);
-        double d = max_rel_diff(&a, &b);
+        double d = solver_test_atlas_diff(&a, &b);
         printf("t = %.2f: %llu hemicubes a frame, %llu with every light drawn (%u light "
                "patches); largest difference %.2e of the largest value\n",
                t, (unsigned long long)sc.hemicubes, (unsigned long long)se.hemicubes,
