@@ -65,6 +65,12 @@
 // With pc.cut a pair whose term is bounded below a share of the frame's
 // largest radiosity is left out (cut_level(), kept()).
 //
+// The mips and the cut are compiled in only with CROSS_RECONSTRUCT_FULL
+// (a second SPIR-V, src/passes/cross_reconstruct.c), which the pass uses
+// where either is on: llvmpipe runs both sides of a branch under a mask,
+// and their dead code doubled cornell-large's projection (243 ms a frame
+// before them, 500 with them off).
+//
 // Visibility, receiver point and form factor are those of the reconstruct
 // pass (spirv/shooting.glsl).
 #extension GL_GOOGLE_include_directive : require
@@ -135,11 +141,14 @@ mat3 basis(gpu_shooter f)
 // hemicube itself; above, spirv/back_mips.glsl).
 vec4 back_texel(int layer, ivec2 px, uint k)
 {
-    if (k == 0u)
-        return texelFetch(back, ivec3(px, layer), 0);
-    uint r = pc.back_res >> k;
-    return back_mips[uint(layer) * back_mip_layer_texels(pc.back_res, pc.back_levels) +
-                     back_mip_first(pc.back_res, k) + uint(px.y) * r + uint(px.x)];
+#ifdef CROSS_RECONSTRUCT_FULL
+    if (k != 0u) {
+        uint r = pc.back_res >> k;
+        return back_mips[uint(layer) * back_mip_layer_texels(pc.back_res, pc.back_levels) +
+                         back_mip_first(pc.back_res, k) + uint(px.y) * r + uint(px.x)];
+    }
+#endif
+    return texelFetch(back, ivec3(px, layer), 0);
 }
 
 // Samples of the back hemicube of patch p in local direction d (d.z > 0)
@@ -193,6 +202,7 @@ vec4 back_bilinear(uint p, vec3 d, uint k)
 // levels, each read as pc.bilinear says.
 vec3 back_radiosity(uint p, vec3 d, float lod)
 {
+#ifdef CROSS_RECONSTRUCT_FULL
     uint k = uint(lod);
     vec3 v = pc.bilinear != 0u ? back_bilinear(p, d, k).rgb : back_nearest(p, d, k).rgb;
     float f = lod - float(k);
@@ -200,6 +210,9 @@ vec3 back_radiosity(uint p, vec3 d, float lod)
         v = mix(v, pc.bilinear != 0u ? back_bilinear(p, d, k + 1u).rgb
                                      : back_nearest(p, d, k + 1u).rgb, f);
     return v;
+#else
+    return pc.bilinear != 0u ? back_bilinear(p, d, 0u).rgb : back_nearest(p, d, 0u).rgb;
+#endif
 }
 
 // PROJECTEDRADIOSITY(s, e), above, for a pair of form factor ff. The rays
@@ -252,12 +265,14 @@ vec3 projected(uint p, vec3 x, vec3 ne, float ff)
                 // cross_grid 16 on cornell-large, the full width made
                 // element p95 17x worse at one ray a pair, half of it 1.5x
                 // better, a quarter as good as no mips (README).
+#ifdef CROSS_RECONSTRUCT_FULL
                 if (pc.back_levels > 0u) {
                     float along = length(ray);
                     float texels = cell * (along + dist) / (along * max(length(dir), 1e-6)) *
                                    0.25 * float(pc.back_res);
                     lod = clamp(log2(max(texels, 1.0)), 0.0, float(pc.back_levels));
                 }
+#endif
             }
             if (dir.z <= 0.0)
                 continue;
@@ -442,6 +457,9 @@ float shown_peak()
 // pc.cut x Rmax; 0 where nothing is left out.
 float cut_level()
 {
+#ifndef CROSS_RECONSTRUCT_FULL
+    return 0.0;
+#endif
     if (pc.cut <= 0.0)
         return 0.0;
     float r = shown_peak();
@@ -452,6 +470,9 @@ float cut_level()
 
 bool kept(uint p, float ff, float level)
 {
+#ifndef CROSS_RECONSTRUCT_FULL
+    return true;
+#endif
     return level <= 0.0 || ff * max(largest(values[p].total.rgb), shown_peak()) >= level;
 }
 

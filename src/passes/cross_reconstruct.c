@@ -5,6 +5,7 @@
 
 #include "core/error.h"
 #include "cross_reconstruct.comp.h"
+#include "cross_reconstruct_full.comp.h"
 #include "cross_shared.h"
 #include "gpu/kernel.h"
 
@@ -13,8 +14,8 @@ struct cross_reconstruct_pass {
     const gpu_buffer *pair_state; /* C_EVAL's indirect dispatch */
 };
 
-xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,
-                                     xrad_error *err)
+xrad_status cross_reconstruct_create(struct xrad_context *ctx, bool full,
+                                     cross_reconstruct_pass **out, xrad_error *err)
 {
     *out = NULL;
     cross_reconstruct_pass *p = calloc(1, sizeof(*p));
@@ -28,8 +29,9 @@ xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct
                        ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE
                        : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     gpu_kernel_desc d = {
-        .spv = cross_reconstruct_comp_spv,
-        .spv_bytes = sizeof(cross_reconstruct_comp_spv),
+        .spv = full ? cross_reconstruct_full_comp_spv : cross_reconstruct_comp_spv,
+        .spv_bytes = full ? sizeof(cross_reconstruct_full_comp_spv)
+                          : sizeof(cross_reconstruct_comp_spv),
         .types = types,
         .binding_count = CROSS_RECONSTRUCT_BINDING_COUNT,
         .set_count = 1,

@@ -79,8 +79,10 @@ typedef struct cross_reconstruct_params {
     uint32_t back_levels;   /* mip levels of the back hemicubes to read above 0 */
 } cross_reconstruct_params;
 
-xrad_status cross_reconstruct_create(struct xrad_context *ctx, cross_reconstruct_pass **out,
-                                     xrad_error *err);
+/* full: the back mips and the contribution bound compiled in, as
+ * params.back_levels and params.cut need (without, both are ignored). */
+xrad_status cross_reconstruct_create(struct xrad_context *ctx, bool full,
+                                     cross_reconstruct_pass **out, xrad_error *err);
 /* Accepts NULL; sets *pass to NULL. The GPU must be done with it. */
 void cross_reconstruct_destroy(struct xrad_context *ctx, cross_reconstruct_pass **pass);
 

@@ -329,6 +329,9 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
     uint64_t most_pairs = (uint64_t)gs->element_count * P;
     c->pair_capacity = most_pairs < PAIR_CAPACITY_MAX ? (uint32_t)most_pairs : PAIR_CAPACITY_MAX;
     bool listed = d->cross_pairs == XRAD_CROSS_PAIRS_ON && c->pair_capacity;
+    /* The projection's second SPIR-V only where it is needed. */
+    bool full = (d->back_mips == XRAD_BACK_MIPS_ON && back_mips_levels(d->back_res)) ||
+                d->cross_cut > 0;
     if (!listed)
         c->pair_capacity = 0;
     xrad_status st;
@@ -363,7 +366,7 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
         (st = integrate_create(ctx, d->hemicube_res, &c->integrate, err)) ||
         (st = atlas_scatter_create(ctx, &c->scatter, err)) ||
         (st = cross_update_create(ctx, &c->update, err)) ||
-        (st = cross_reconstruct_create(ctx, &c->reconstruct, err)))
+        (st = cross_reconstruct_create(ctx, full, &c->reconstruct, err)))
         return st;
     if (c->L && (st = create_lights(s, c, err)))
         return st;
