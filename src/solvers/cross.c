@@ -138,6 +138,7 @@ typedef struct cross {
     uint32_t m_objects;       /* dynamic objects */
     uint32_t *m_object;       /* [m_objects]: their indices */
     vec3 *m_box;              /* [2 m_objects]: their object-space bounds, lo and hi */
+    vec3 *m_corners;          /* [8 m_objects]: those bounds' corners at the pose */
     gpu_buffer pairs;         /* struct cross_pair[pair_capacity] */
     gpu_buffer ranges;        /* uvec2[element_count]: each element's pairs */
     gpu_buffer pair_state;    /* struct cross_pair_state, host-visible: the count read back */
@@ -181,6 +182,7 @@ static void destroy(xrad_solver *s)
     free(c->light_host);
     free(c->m_object);
     free(c->m_box);
+    free(c->m_corners);
     free(c);
     s->impl = NULL;
 }
@@ -192,7 +194,8 @@ static xrad_status m_bounds(const xrad_scene *scene, cross *c, xrad_error *err)
         c->m_objects += scene->objects[o].dynamic;
     c->m_object = calloc(c->m_objects ? c->m_objects : 1, sizeof(*c->m_object));
     c->m_box = calloc(2 * (c->m_objects ? c->m_objects : 1), sizeof(*c->m_box));
-    if (!c->m_object || !c->m_box)
+    c->m_corners = calloc(8 * (c->m_objects ? c->m_objects : 1), sizeof(*c->m_corners));
+    if (!c->m_object || !c->m_box || !c->m_corners)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "out of host memory for the moving objects");
     uint32_t m = 0;
     for (uint32_t o = 0; o < scene->object_count; o++) {
@@ -217,21 +220,22 @@ static void light_reach(xrad_solver *s, cross *c, double t)
     uint32_t *layer = c->light_layers.alloc.mapped;
     struct gpu_shooter *drawn = c->reach_frames.alloc.mapped;
     double tol = 1e-6 * c->diameter;
+    /* The posed corners, once for every light. */
+    for (uint32_t m = 0; m < c->m_objects; m++) {
+        xform pose = scene_object_pose(s->scene, c->m_object[m], t);
+        const vec3 *box = &c->m_box[2 * m];
+        for (int k = 0; k < 8; k++)
+            c->m_corners[8 * m + k] =
+                xf_point(&pose, v3(box[k & 1].x, box[(k >> 1) & 1].y, box[k >> 2].z));
+    }
     uint32_t n = 0;
     for (uint32_t l = 0; l < c->L; l++) {
         const struct gpu_shooter *f = &c->light_host[l];
         vec3 centre = v3(f->pos_area.x, f->pos_area.y, f->pos_area.z);
         vec3 normal = v3(f->normal.x, f->normal.y, f->normal.z);
         bool reach = c->reach_all;
-        for (uint32_t m = 0; m < c->m_objects && !reach; m++) {
-            xform pose = scene_object_pose(s->scene, c->m_object[m], t);
-            const vec3 *box = &c->m_box[2 * m];
-            for (int k = 0; k < 8 && !reach; k++) {
-                vec3 q = xf_point(&pose, v3(box[k & 1].x, box[(k >> 1) & 1].y,
-                                            box[k >> 2].z));
-                reach = v3_dot(v3_sub(q, centre), normal) > -tol;
-            }
-        }
+        for (uint32_t k = 0; k < 8 * c->m_objects && !reach; k++)
+            reach = v3_dot(v3_sub(c->m_corners[k], centre), normal) > -tol;
         layer[l] = reach ? n : CROSS_LIGHT_UNREACHED;
         if (reach)
             drawn[n++] = *f;
