@@ -519,6 +519,11 @@ typedef struct xrad_context_desc {
     /* Testing: make the Nth call of a Vulkan function fail,
      * "vkQueueSubmit:2:VK_ERROR_DEVICE_LOST"; NULL: none. */
     const char *fault;
+    /* The hemicube path: NULL or "auto" (multiview where its start-up
+     * check passes, else layered), "multiview" or "layered" (only that
+     * path, still checked: a device that draws it wrongly is an error).
+     * For comparing the two paths on one device. */
+    const char *hemicube_path;
     /* NULL: messages go to stderr as "xrad: MESSAGE". */
     xrad_log_fn log;
     void *log_user;
@@ -526,7 +531,7 @@ typedef struct xrad_context_desc {
 
 /* The environment the command-line tools honour, for an application that
  * wants the same: fills what `desc` leaves unset from XRAD_DEVICE,
- * XRAD_VALIDATION=1, XRAD_GPU_MEMORY_MIB and XRAD_FAULT. The library reads
+ * XRAD_VALIDATION=1, XRAD_GPU_MEMORY_MIB, XRAD_FAULT and XRAD_HEMICUBE_PATH. The library reads
  * no environment variable otherwise. XRAD_ERROR_INPUT names a malformed
  * variable. */
 XRAD_API xrad_status xrad_context_desc_from_env(xrad_context_desc *desc, xrad_error *err);

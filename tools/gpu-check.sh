@@ -128,6 +128,9 @@ RUNNER=auto
 JSON_OUT=
 PREPARE=0
 PACK_TO=build-gpu
+GL_PACKAGES="libglvnd0 libegl1 libgl1 libglx0 libopengl0 libgles2"
+MODELS=/usr/share/assimp/models
+TEST_MODELS="PLY/Wuson.ply glTF2 STL/triangle_with_two_solids.stl"
 THESIS_SCENES=scenes/cornell-lowq.json,scenes/cornell-large.json,scenes/cornell-small.json,scenes/indirect-light.json
 
 die_usage() {
@@ -281,6 +284,29 @@ if [ "$PREPARE" = 1 ]; then
             grep -v "unsandboxed" >&2
         ls "$DEBS/${p}_"*.deb >/dev/null 2>&1 || failed="$failed $p"
     done
+    if [ -n "$failed" ]; then
+        echo "gpu-check: could not download$failed (apt-get update first? is there a network?)" >&2
+        exit 2
+    fi
+    # The NVIDIA Vulkan driver (libGLX_nvidia.so.0) needs glvnd's
+    # libGLdispatch, which the GPU machine's image lacks: without it the
+    # loader answered VK_ERROR_INCOMPATIBLE_DRIVER (2026-12-04). The device
+    # README's loaders, unpacked into / there where they are missing.
+    mkdir -p "$DEBS/gl" && rm -f "$DEBS"/gl/*.deb || exit 2
+    for p in $GL_PACKAGES; do
+        (cd "$DEBS/gl" && apt-get download -qq "$p") 2>&1 | grep -v "unsandboxed" >&2
+        ls "$DEBS/gl/${p}_"*.deb >/dev/null 2>&1 || failed="$failed $p"
+    done
+    # The assimp test models the tests read (Debian assimp-testmodels, 75
+    # MiB in all: these are about 4), put in place there where missing.
+    if [ -d "$MODELS" ]; then
+        for m in $TEST_MODELS; do
+            mkdir -p "$PACK_TO/assimp-models/$(dirname "$m")" &&
+                cp -r "$MODELS/$m" "$PACK_TO/assimp-models/$m" || exit 2
+        done
+    else
+        echo "gpu-check: warning: no $MODELS here (assimp-testmodels); the model tests will be left out there"
+    fi
     if [ -n "$failed" ]; then
         echo "gpu-check: could not download$failed (apt-get update first? is there a network?)" >&2
         exit 2
@@ -769,6 +795,19 @@ if [ -n "$DEBS" ]; then
             echo "gpu-check: the validation layer from the .debs: VK_LAYER_PATH=$VK_LAYER_PATH"
         fi
     fi
+    # glvnd for the NVIDIA driver, into / as the device README does for
+    # the loaders (a private root is not enough: the driver is dlopened by
+    # name through the system's loader cache).
+    if [ "$ok" = 1 ] && ls "$DEBS"/gl/*.deb >/dev/null 2>&1 &&
+        ! ldconfig -p 2>/dev/null | grep -q 'libGLdispatch\.so\.0'; then
+        if [ "$(id -u)" = 0 ]; then
+            for f in "$DEBS"/gl/*.deb; do dpkg -x "$f" / || { ok=0; msg="dpkg -x $f / failed"; }; done
+            ldconfig || ok=0
+            [ "$ok" = 0 ] || msg="$msg; glvnd ($GL_PACKAGES) into /, ldconfig"
+        else
+            echo "gpu-check: warning: no libGLdispatch.so.0 here and not root: the NVIDIA driver may not load"
+        fi
+    fi
     echo "gpu-check: $msg"
     if [ "$ok" = 1 ]; then step debs ok $((SECONDS - t0)) "$msg"; else step debs failed $((SECONDS - t0)) "$msg"; STATUS=2; finish; fi
 fi
@@ -1015,11 +1054,15 @@ print(int(os.path.realpath(i["directories"]["build"]) == os.path.realpath(sys.ar
             fi
         fi
         skip=$SKIP
-        if [ ! -d /usr/share/assimp/models ]; then
-            case ",$skip," in *,models,*) ;; *)
-                skip=$(add_list "$skip" models)
-                echo "gpu-check: leaving out 'models': no /usr/share/assimp/models (Debian package assimp-testmodels)" ;;
-            esac
+        if [ ! -e "$MODELS" ] && [ -d "$BUILD/assimp-models" ] && [ "$(id -u)" = 0 ] &&
+            mkdir -p "$(dirname "$MODELS")" && ln -s "$(cd "$BUILD/assimp-models" && pwd)" "$MODELS"; then
+            echo "gpu-check: $MODELS: the carried test models ($TEST_MODELS)"
+        fi
+        if [ ! -d "$MODELS" ]; then
+            for t in models scene_files mesh_corners cli; do
+                case ",$skip," in *,"$t",*) ;; *) skip=$(add_list "$skip" "$t") ;; esac
+            done
+            echo "gpu-check: leaving out models, scene_files, mesh_corners and cli: no $MODELS (Debian package assimp-testmodels)"
         fi
         echo "gpu-check: runner $runner"
         if [ "$runner" = meson ]; then
@@ -1042,6 +1085,13 @@ print(int(os.path.realpath(i["directories"]["build"]) == os.path.realpath(sys.ar
             python3 -c "$PY" meson "$BUILD/meson-logs/gpu-check-testlog.json" "$TMPD/suite-list.txt" "$TMPD/suite.json"
             cp "$BUILD/meson-logs/gpu-check-testlog.txt" "$LOGDIR/testlog.txt" 2>/dev/null
         else
+            # The build suite compiles against the sources' headers, the
+            # build tree and the -dev packages, none of which a carried
+            # build has.
+            for t in install layers headers; do
+                case ",$skip," in *,"$t",*) ;; *) skip=$(add_list "$skip" "$t") ;; esac
+            done
+            echo "gpu-check: leaving out install, layers and headers: they build from the sources with the -dev packages (runner own)"
             deadline=$(python3 -c 'import sys, time; print(time.time() + float(sys.argv[1]))' "$cap")
             python3 -c "$PY" run "$BUILD" "$REPO" "$JOBS" "$deadline" "$SUITES" "$skip" \
                 "$LOGDIR/testlog.txt" "$TMPD/suite.json"

@@ -384,6 +384,16 @@ xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **ou
     if (s)
         return s;
     ctx->present = desc->present == 1;
+    const char *hp = desc->hemicube_path;
+    if (hp && !strcmp(hp, "multiview"))
+        ctx->hemicube_path_only = GPU_HEMICUBE_ONLY_MULTIVIEW;
+    else if (hp && !strcmp(hp, "layered"))
+        ctx->hemicube_path_only = GPU_HEMICUBE_ONLY_LAYERED;
+    else if (hp && *hp && strcmp(hp, "auto")) {
+        xrad_context_destroy(&ctx);
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "hemicube path '%s': want auto, multiview or layered", hp);
+    }
     const char *wanted = desc->device && *desc->device ? desc->device : NULL;
     if ((s = create_instance(ctx, desc->validation == 1, desc, err)) ||
         (s = choose_device(ctx, wanted, err)) || (s = create_device(ctx, ctx->present, err))) {
@@ -487,6 +497,12 @@ xrad_status xrad_context_desc_from_env(xrad_context_desc *desc, xrad_error *err)
         if (gpu_fault_parse(v, &f, &e))
             return xrad_fail(err, XRAD_ERROR_INPUT, "XRAD_FAULT: %s", e.message);
         desc->fault = v;
+    }
+    if (!desc->hemicube_path && (v = env("XRAD_HEMICUBE_PATH"))) {
+        if (strcmp(v, "auto") && strcmp(v, "multiview") && strcmp(v, "layered"))
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "XRAD_HEMICUBE_PATH: '%s' is not auto, multiview or layered", v);
+        desc->hemicube_path = v;
     }
     return XRAD_OK;
 }

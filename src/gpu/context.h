@@ -42,6 +42,8 @@ typedef struct gpu_features {
     VkSubgroupFeatureFlags subgroup_ops; /* in compute shaders */
 } gpu_features;
 
+enum { GPU_HEMICUBE_ONLY_MULTIVIEW = 1, GPU_HEMICUBE_ONLY_LAYERED = 2 };
+
 struct xrad_context {
     VkInstance instance;
     uint32_t instance_api;
@@ -54,6 +56,9 @@ struct xrad_context {
      * counts (pixels, edge, wrong), written before the verdict. */
     atomic_uint hemicube_path;
     uint32_t hemicube_check[3];
+    /* xrad_context_desc.hemicube_path: the only path the check may
+     * choose (GPU_HEMICUBE_ONLY_*), 0: either. */
+    unsigned hemicube_path_only;
 
     VkPhysicalDevice phys;
     VkPhysicalDeviceProperties props;

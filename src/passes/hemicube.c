@@ -356,8 +356,11 @@ xrad_status hemicube_create_desc(struct xrad_context *ctx, const hemicube_desc *
     }
     const hemicube_path order[2] = {HEMICUBE_PATH_MULTIVIEW, HEMICUBE_PATH_LAYERED};
     hemicube_check_result results[2] = {{0}};
+    /* xrad_context_desc.hemicube_path may allow only one of the two. */
+    const unsigned only[2] = {GPU_HEMICUBE_ONLY_MULTIVIEW, GPU_HEMICUBE_ONLY_LAYERED};
     for (int i = 0; i < 2; i++) {
-        if (!hemicube_path_supported(ctx, order[i]))
+        if (!hemicube_path_supported(ctx, order[i]) ||
+            (ctx->hemicube_path_only && ctx->hemicube_path_only != only[i]))
             continue;
         if ((s = hemicube_check_path(ctx, order[i], &results[i], err)))
             return s;
@@ -372,13 +375,17 @@ xrad_status hemicube_create_desc(struct xrad_context *ctx, const hemicube_desc *
         atomic_store(&ctx->hemicube_path, (unsigned)order[i] + 1);
         return XRAD_OK;
     }
+    const char *state[2];
+    for (int i = 0; i < 2; i++)
+        state[i] = !hemicube_path_supported(ctx, order[i]) ? "unsupported"
+                   : ctx->hemicube_path_only && ctx->hemicube_path_only != only[i]
+                       ? "not allowed by xrad_context_desc.hemicube_path"
+                       : "checked";
     return xrad_fail(err, XRAD_ERROR_SYSTEM,
-                     "hemicube: device '%s' draws no hemicube path correctly (multiview: %s, "
+                     "hemicube: device '%s' draws no hemicube path correctly%s (multiview: %s, "
                      "%u of %u pixels wrong; layered: %s, %u of %u pixels wrong)",
-                     ctx->props.deviceName,
-                     hemicube_path_supported(ctx, order[0]) ? "checked" : "unsupported",
-                     results[0].wrong + results[0].edge, results[0].pixels,
-                     hemicube_path_supported(ctx, order[1]) ? "checked" : "unsupported",
+                     ctx->props.deviceName, ctx->hemicube_path_only ? " of those allowed" : "",
+                     state[0], results[0].wrong + results[0].edge, results[0].pixels, state[1],
                      results[1].wrong + results[1].edge, results[1].pixels);
 }
 

@@ -17,6 +17,7 @@
  */
 #include <stdbool.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "gpu/cmd.h"
@@ -280,6 +281,58 @@ done:
     hemicube_destroy(ctx, &pass);
 }
 
+/* xrad_context_desc.hemicube_path (and XRAD_HEMICUBE_PATH): a context
+ * restricted to one path draws with it where its check passed (ok[] as
+ * the checks above found), and fails with a message saying why where it
+ * did not; anything but auto, multiview and layered is an input error. */
+static void test_path_choice(const bool ok[2])
+{
+    const char *names[2] = {"multiview", "layered"};
+    for (int i = 0; i < 2; i++) {
+        xrad_context *ctx = NULL;
+        xrad_error err = {0};
+        xrad_context_desc d = {.validation = 1, .device = getenv("XRAD_DEVICE"),
+                               .hemicube_path = names[i]};
+        xrad_status s = xrad_context_create(&d, &ctx, &err);
+        CHECK(s == XRAD_OK, "context with hemicube_path %s: %s", names[i], err.message);
+        if (s)
+            continue;
+        hemicube_pass *pass = NULL;
+        s = hemicube_create(ctx, 1.0, RES, MAX_CUBES, &pass, &err);
+        if (ok[i]) {
+            CHECK(s == XRAD_OK && !strcmp(hemicube_path_name(pass), names[i]),
+                  "hemicube_path %s: %s", names[i], s ? err.message : hemicube_path_name(pass));
+        } else {
+            CHECK(s == XRAD_ERROR_SYSTEM && strstr(err.message, "of those allowed"),
+                  "hemicube_path %s, which the device draws wrongly: status %d, '%s'", names[i],
+                  (int)s, s ? err.message : "created");
+        }
+        fprintf(stderr, "hemicube_path %s: %s\n", names[i],
+                s ? err.message : hemicube_path_name(pass));
+        hemicube_destroy(ctx, &pass);
+        gpu_test_end(&ctx);
+    }
+    xrad_context *ctx = NULL;
+    xrad_error err = {0};
+    xrad_context_desc d = {.hemicube_path = "layerd"};
+    xrad_status s = xrad_context_create(&d, &ctx, &err);
+    CHECK(s == XRAD_ERROR_INPUT && strstr(err.message, "'layerd'") && !ctx,
+          "hemicube_path 'layerd': status %d, '%s'", (int)s, err.message);
+    xrad_context_destroy(&ctx);
+    setenv("XRAD_HEMICUBE_PATH", "both", 1);
+    xrad_context_desc e = {0};
+    s = xrad_context_desc_from_env(&e, &err);
+    CHECK(s == XRAD_ERROR_INPUT && strstr(err.message, "XRAD_HEMICUBE_PATH") &&
+              strstr(err.message, "'both'"),
+          "XRAD_HEMICUBE_PATH=both: status %d, '%s'", (int)s, err.message);
+    setenv("XRAD_HEMICUBE_PATH", "layered", 1);
+    e = (xrad_context_desc){0};
+    s = xrad_context_desc_from_env(&e, &err);
+    CHECK(s == XRAD_OK && e.hemicube_path && !strcmp(e.hemicube_path, "layered"),
+          "XRAD_HEMICUBE_PATH=layered: %s", s ? err.message : "not taken");
+    unsetenv("XRAD_HEMICUBE_PATH");
+}
+
 int main(void)
 {
     xrad_context *ctx = gpu_test_context();
@@ -374,5 +427,7 @@ int main(void)
     gpu_scene_destroy(ctx, &gs);
     xrad_scene_destroy(&sc);
     gpu_test_end(&ctx);
+    if (ok[0] || ok[1])
+        test_path_choice(ok);
     return test_finish();
 }
