@@ -167,8 +167,12 @@ typedef struct hemicube_mesh {
 
 typedef struct hemicube_draw {
     hemicube_mesh mesh;
-    uint32_t index_count; /* without commands: indices [0, index_count) (whole triangles; with
-                             ranges, at the end of one) */
+    /* Without commands: indices [0, index_count) (whole triangles; with
+     * ranges, at the end of one). With `indirect`, the multiview path draws
+     * these (one render pass instance per hemicube, the command's count
+     * word saying which are live) while the layered path draws the
+     * command's own indexCount: the two must be equal. */
+    uint32_t index_count;
     const gpu_buffer *frames;   /* struct gpu_shooter[], STORAGE usage */
     uint32_t first;             /* frame of hemicube 0 */
     /* Either the host's count (indirect NULL; at most max_hemicubes) or a
@@ -196,9 +200,9 @@ typedef struct hemicube_draw {
  * writes of frames, indirect command and atlas before it. */
 void hemicube_record(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_draw *draw);
 
-/* The ID variant of `mesh` (indices [0, index_count)) with the indirect
- * count at `indirect_offset` of `indirect`: what the progressive solver
- * records per shot. With `commands` (else NULL), the cull pass's `count`
+/* The ID variant of `mesh` (indices [0, index_count), the indexCount of
+ * the indirect command too) with the indirect count at `indirect_offset` of
+ * `indirect`: what the progressive solver records per shot. With `commands` (else NULL), the cull pass's `count`
  * commands instead of one draw of every triangle. */
 void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_mesh *mesh,
                          uint32_t index_count,

@@ -819,6 +819,11 @@ void cross_draw_every_light(xrad_solver *s)
         ((cross *)s->impl)->reach_all = true;
 }
 
+void cross_shot_draw_counts(xrad_solver *s, uint32_t *host, uint32_t *command)
+{
+    progressive_draw_counts(((cross *)s->impl)->prog, host, command);
+}
+
 void cross_pair_readback_free(cross_pair_readback *r)
 {
     free(r->pairs);

@@ -36,4 +36,8 @@ void cross_pair_readback_free(cross_pair_readback *r);
  * if M could reach them all (what the cut by the lights' planes must equal). */
 void cross_draw_every_light(xrad_solver *s);
 
+/* Tests: progressive_draw_counts of the solver's shots (C alone: both
+ * must be the static scene's index count, not the whole scene's). */
+void cross_shot_draw_counts(xrad_solver *s, uint32_t *host, uint32_t *command);
+
 #endif

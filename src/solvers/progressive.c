@@ -59,6 +59,7 @@ struct progressive {
     bool redistributed; /* PROGRESSIVE_REDISTRIBUTED */
     select_params select_params;
     reconstruct_params reconstruct_params;
+    uint32_t recorded_index_count; /* the host count the last shot's hemicubes drew */
 };
 
 /* Shooters one shot may need: the largest kx x ky of the patch rule over
@@ -270,7 +271,15 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
                            VK_ACCESS_INDIRECT_COMMAND_READ_BIT);
     }
     hemicube_mesh mesh = gpu_scene_hemicube_mesh(&s->gs);
-    hemicube_record_ids(p->hemicube, cmd, &mesh, s->gs.index_count, &p->shooters, &p->status,
+    /* The count the select pass writes into the indirect command: C alone
+     * under cross. The multiview path draws this host count, not the
+     * command's. It was the whole scene's: on an NVIDIA H200 (multiview,
+     * 2026-12-04) M shadowed C twice, in the shots and in cross's X, and
+     * a moving ball's faces came out at 0.27-0.38 of the CPU reference; a
+     * lavapipe build whose command drew M too gave the same figures. */
+    p->recorded_index_count = p->select_params.draw_index_count;
+    hemicube_record_ids(p->hemicube, cmd, &mesh, p->recorded_index_count, &p->shooters,
+                        &p->status,
                         offsetof(struct select_status, draw_index_count),
                         p->cull ? &p->commands : NULL, p->cull_params.cluster_count);
     gpu_timer_end(s->timer, cmd);
@@ -413,3 +422,10 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
 }
 
 const solver_ops progressive_ops = {create, solve, destroy, NULL};
+
+void progressive_draw_counts(const progressive *p, uint32_t *host, uint32_t *command)
+{
+    const struct select_status *st = p->status.alloc.mapped;
+    *host = p->recorded_index_count;
+    *command = st->draw_index_count;
+}

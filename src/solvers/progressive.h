@@ -50,4 +50,10 @@ void progressive_destroy(struct xrad_solver *s, progressive **p);
 xrad_status progressive_run(struct xrad_solver *s, progressive *p, bool restart,
                             uint32_t max_shots, xrad_error *err);
 
+/* Tests, after a completed progressive_run: the index count the last
+ * shot's ID hemicubes were recorded with on the host (what the multiview
+ * path draws) and the one the select pass wrote into their indirect
+ * command (what the layered path draws). */
+void progressive_draw_counts(const progressive *p, uint32_t *host, uint32_t *command);
+
 #endif
