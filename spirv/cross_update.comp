@@ -56,6 +56,10 @@ float knot(uint c, uint n)
 float bracket(float s, uint n, out uint c0)
 {
     c0 = 0u;
+    // One sample: no segment (its knots coincide, and 0 / 0 through
+    // clamp() is undefined in SPIR-V); the caller reads no neighbour.
+    if (n < 2u)
+        return 0.0;
     while (c0 + 2u < n && s > knot(c0 + 1u, n))
         c0++;
     float a = knot(c0, n), b = knot(c0 + 1u, n);
@@ -149,8 +153,9 @@ void main()
     float fy = bracket(float(ke / sf.nu) / float(max(sf.nv, 2u) - 1u), cy, c0y);
     vec2 f = vec2(fx, fy);
     uint p00 = first + c0y * cx + c0x;
-    vec3 g = mix(mix(gathered[p00].rgb, gathered[p00 + 1u].rgb, f.x),
-                 mix(gathered[p00 + cx].rgb, gathered[p00 + cx + 1u].rgb, f.x), f.y);
+    uint dx = cx > 1u ? 1u : 0u, dy = cy > 1u ? cx : 0u; // a single sample: itself
+    vec3 g = mix(mix(gathered[p00].rgb, gathered[p00 + dx].rgb, f.x),
+                 mix(gathered[p00 + dy].rgb, gathered[p00 + dy + dx].rgb, f.x), f.y);
     B[k] = vec4(m.emission.rgb + m.albedo.rgb * g, 0.0);
     Bu[k] = vec4(0.0);
 }
