@@ -531,9 +531,9 @@ typedef struct xrad_context_desc {
 
 /* The environment the command-line tools honour, for an application that
  * wants the same: fills what `desc` leaves unset from XRAD_DEVICE,
- * XRAD_VALIDATION=1, XRAD_GPU_MEMORY_MIB, XRAD_FAULT and XRAD_HEMICUBE_PATH. The library reads
- * no environment variable otherwise. XRAD_ERROR_INPUT names a malformed
- * variable. */
+ * XRAD_VALIDATION=1, XRAD_GPU_MEMORY_MIB, XRAD_FAULT and
+ * XRAD_HEMICUBE_PATH. The library reads no environment variable otherwise.
+ * XRAD_ERROR_INPUT names a malformed variable. */
 XRAD_API xrad_status xrad_context_desc_from_env(xrad_context_desc *desc, xrad_error *err);
 
 XRAD_API xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **out,

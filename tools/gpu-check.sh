@@ -21,7 +21,10 @@
 #       # build-gpu/: build/'s executables without debug sections and its
 #       #   test list (meson-info), about 14 MiB;
 #       # build-debs/: the runtime .debs (loader, validation layer, assimp,
-#       #   Embree, OpenEXR, ...), about 18 MiB
+#       #   Embree, OpenEXR, ...), about 18 MiB, and in build-debs/gl/
+#       #   glvnd, which the NVIDIA driver needs (unpacked into / there);
+#       # build-gpu/assimp-models/: the assimp test models the tests read
+#       #   (linked to /usr/share/assimp/models there), about 4 MiB
 #
 # Both match .gitignore's /build*/, so they travel only when carried. Then,
 # through the device tool (under 2000 characters; add "out/bench-cache" to

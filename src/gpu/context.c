@@ -392,7 +392,8 @@ xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **ou
     else if (hp && *hp && strcmp(hp, "auto")) {
         xrad_context_destroy(&ctx);
         return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "hemicube path '%s': want auto, multiview or layered", hp);
+                         "xrad_context_desc.hemicube_path '%s': want auto, multiview or "
+                         "layered", hp);
     }
     const char *wanted = desc->device && *desc->device ? desc->device : NULL;
     if ((s = create_instance(ctx, desc->validation == 1, desc, err)) ||

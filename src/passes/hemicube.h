@@ -201,9 +201,10 @@ typedef struct hemicube_draw {
 void hemicube_record(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_draw *draw);
 
 /* The ID variant of `mesh` (indices [0, index_count), the indexCount of
- * the indirect command too) with the indirect count at `indirect_offset` of
- * `indirect`: what the progressive solver records per shot. With `commands` (else NULL), the cull pass's `count`
- * commands instead of one draw of every triangle. */
+ * the indirect command too) with the indirect count at `indirect_offset`
+ * of `indirect`: what the progressive solver records per shot. With
+ * `commands` (else NULL), the cull pass's `count` commands instead of one
+ * draw of every triangle. */
 void hemicube_record_ids(hemicube_pass *pass, VkCommandBuffer cmd, const hemicube_mesh *mesh,
                          uint32_t index_count,
                          const gpu_buffer *frames, const gpu_buffer *indirect,
