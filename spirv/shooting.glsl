@@ -87,7 +87,10 @@ bool shooting_depth_visible(uvec2 texel, vec3 o, vec3 x, uint res)
 //
 // `occluders` false: thesis 4.3.3's nearest-texel check alone (x's ID in
 // its texel or one of the 8 around it). Cross's redistribution keeps it
-// (its shadows were tuned against it; issue 14 left them as they were).
+// for what M sees and lights (its shadows were tuned against it; issue 14
+// left them as they were), but not for the direct light M hides from C,
+// which must match the shots that gave it (cross_reconstruct.comp,
+// blocked_direct).
 // Incremental uses the occluder test in its redistribution and in the
 // progressive shots that redistribution removes again, the two alike: its
 // old hemicubes show M where the old pose had it, so `old` looks the
