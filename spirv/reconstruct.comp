@@ -34,7 +34,7 @@
 // At albedo 0.999 a gain above 1 makes the solution diverge and a loss of
 // 1e-3 costs half the light; below that, total power misses the bound
 // E / (1 - rho_max) by a few percent. So a shot stores every F (MODE_FF);
-// per shooter (MODE_NORM) f_s is the delta-form-factor sum of the ID
+// per shooter (MODE_NORM, a workgroup each) f_s is the delta-form-factor sum of the ID
 // hemicube's texels that show a surface's front (not the background, not a
 // back face, which absorbs), and the form factors are scaled so that the
 // receivers take exactly A_s f_s; then the transfer (MODE_APPLY). In a
@@ -133,41 +133,60 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
     return sum / mean;
 }
 
-// The part of shooter sh's hemisphere (delta form factors, thesis 2.2.2:
-// dA / (pi (u^2 + v^2 + 1)^2) on the top face, times v on a side face's
-// upper half) that its ID hemicube shows as a surface's front side.
-float front_fraction(gpu_shooter sh)
+// This invocation's share of the part of shooter sh's hemisphere (delta
+// form factors, thesis 2.2.2: dA / (pi (u^2 + v^2 + 1)^2) on the top face,
+// times v on a side face's upper half) that its ID hemicube shows as a
+// surface's front side: (front, total) over every RECONSTRUCT_GROUP-th
+// texel of the top face's res^2 and the side faces' upper halves (res^2 / 2
+// each), from texel lane on. norm_reduce() sums the shares.
+vec2 front_fraction_share(gpu_shooter sh, uint lane)
 {
-    uint res = pc.hemicube_res;
+    uint res = pc.hemicube_res, top = res * res, half_face = top / 2u;
     vec3 t = sh.tangent.xyz, ns = sh.normal.xyz, b = cross(ns, t);
     float total = 0.0, front = 0.0;
-    for (uint face = 0u; face < 5u; face++) {
-        uint row0 = face == 0u ? 0u : res / 2u;
-        for (uint row = row0; row < res; row++) {
-            float v = (float(row) + 0.5) / float(res) * 2.0 - 1.0;
-            for (uint col = 0u; col < res; col++) {
-                float u = (float(col) + 0.5) / float(res) * 2.0 - 1.0;
-                float r2 = u * u + v * v + 1.0;
-                float w = (face == 0u ? 1.0 : v) / (r2 * r2);
-                total += w;
-                uint id = texelFetch(hemicubes, ivec3(int(col), int(row),
-                                                      int(sh.hemicube * 5u + face)), 0).r;
-                if (id == 0u)
-                    continue;
-                // The texel's direction in the shooter's frame, as
-                // hemicube_face maps directions to faces.
-                vec3 d = face == 0u ? vec3(u, v, 1.0)
-                       : face == 1u ? vec3(1.0, u, v)
-                       : face == 2u ? vec3(-1.0, -u, v)
-                       : face == 3u ? vec3(-u, 1.0, v)
-                                    : vec3(u, -1.0, v);
-                vec3 world = d.x * t + d.y * b + d.z * ns;
-                if (dot(world, surfaces[id - 1u].normal_area.xyz) < 0.0)
-                    front += w;
-            }
-        }
+    for (uint i = lane; i < top + 4u * half_face; i += RECONSTRUCT_GROUP) {
+        uint face = i < top ? 0u : 1u + (i - top) / half_face;
+        uint r = i < top ? i : (i - top) % half_face;
+        uint row = (face == 0u ? 0u : res / 2u) + r / res, col = r % res;
+        float v = (float(row) + 0.5) / float(res) * 2.0 - 1.0;
+        float u = (float(col) + 0.5) / float(res) * 2.0 - 1.0;
+        float r2 = u * u + v * v + 1.0;
+        float w = (face == 0u ? 1.0 : v) / (r2 * r2);
+        total += w;
+        uint id = texelFetch(hemicubes, ivec3(int(col), int(row), int(sh.hemicube * 5u + face)), 0).r;
+        if (id == 0u)
+            continue;
+        // The texel's direction in the shooter's frame, as hemicube_face
+        // maps directions to faces.
+        vec3 d = face == 0u ? vec3(u, v, 1.0)
+               : face == 1u ? vec3(1.0, u, v)
+               : face == 2u ? vec3(-1.0, -u, v)
+               : face == 3u ? vec3(-u, 1.0, v)
+                            : vec3(u, -1.0, v);
+        vec3 world = d.x * t + d.y * b + d.z * ns;
+        if (dot(world, surfaces[id - 1u].normal_area.xyz) < 0.0)
+            front += w;
     }
-    return total > 0.0 ? front / total : 0.0;
+    return vec2(front, total);
+}
+
+// The NORM dispatch runs a workgroup per shooter (reconstruct.c): one
+// invocation looping over every element and texel took about 2.4 ms a
+// shot on a GPU (tools/gpu-check.sh, cornell-large: 10,342 elements and
+// 3 x 64^2 texels in sequence), a third of cross's frame. Each invocation
+// sums a strided share; the group adds the shares in shared memory.
+shared vec3 s_norm[RECONSTRUCT_GROUP];
+
+vec3 norm_reduce(vec3 v, uint lane)
+{
+    s_norm[lane] = v;
+    barrier();
+    for (uint stride = RECONSTRUCT_GROUP / 2u; stride > 0u; stride /= 2u) {
+        if (lane < stride)
+            s_norm[lane] += s_norm[lane + stride];
+        barrier();
+    }
+    return s_norm[0];
 }
 
 // How near, in patch sizes, a receiver sees a patch block by block
@@ -249,7 +268,9 @@ void main()
 {
     uint count = status.shooter_count;
     if (pc.mode == RECONSTRUCT_MODE_NORM) {
-        uint k = gl_GlobalInvocationID.x;
+        // Uniform across the workgroup, so every return below is the
+        // whole group's and no invocation misses a barrier.
+        uint k = gl_WorkGroupID.x, lane = gl_LocalInvocationID.x;
         if (k >= count)
             return;
         // Fixed patches (the dynamic methods' M, and incremental's C) are
@@ -261,13 +282,18 @@ void main()
         // redistribution removes then differs from what was shot once, not
         // every frame.
         if (surfaces[shooters[k].surface].patches_s != 0u && pc.conserve_fixed == 0u) {
-            norm[k] = 1.0;
+            if (lane == 0u)
+                norm[k] = 1.0;
             return;
         }
         float taken = 0.0;
-        for (uint i = 0u; i < pc.element_count; i++)
+        for (uint i = lane; i < pc.element_count; i += RECONSTRUCT_GROUP)
             taken += elements[i].pos_area.w * ff[k * pc.element_count + i];
-        float sent = shooters[k].pos_area.w * front_fraction(shooters[k]);
+        vec3 sums = norm_reduce(vec3(taken, front_fraction_share(shooters[k], lane)), lane);
+        if (lane != 0u)
+            return;
+        taken = sums.x;
+        float sent = shooters[k].pos_area.w * (sums.z > 0.0 ? sums.y / sums.z : 0.0);
         // A receiver set far from what the hemicube shows (a shooter whose
         // visible front faces all lie on its own surface's plane, say) is
         // left as it is rather than scaled by a large factor.

@@ -25,10 +25,10 @@
 /* With conservation, a shot takes three dispatches (see reconstruct.comp). */
 #define RECONSTRUCT_MODE_DIRECT 0u   /* F and the transfer in one pass (no conservation) */
 #define RECONSTRUCT_MODE_FF 1u       /* per receiver: F to every shooter into ff[] */
-#define RECONSTRUCT_MODE_NORM 2u     /* per shooter: the normalisation from ff[] */
+#define RECONSTRUCT_MODE_NORM 2u     /* a workgroup per shooter: the normalisation from ff[] */
 #define RECONSTRUCT_MODE_APPLY 3u    /* per receiver: rho sum_s B_s F norm_s */
 
-#define RECONSTRUCT_GROUP 64u /* one invocation per receiving element */
+#define RECONSTRUCT_GROUP 64u /* one invocation per receiving element; a power of two (NORM sums by halving) */
 
 struct reconstruct_push {
     uint element_count;

@@ -95,7 +95,7 @@ void reconstruct_record(reconstruct_pass *p, VkCommandBuffer cmd,
     const VkPipelineStageFlags cs = VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT;
     gpu_memory_barrier(cmd, cs, VK_ACCESS_SHADER_WRITE_BIT, cs, VK_ACCESS_SHADER_READ_BIT);
     push.mode = RECONSTRUCT_MODE_NORM;
-    gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, params->max_shooters, RECONSTRUCT_GROUP);
+    gpu_kernel_dispatch_groups(&p->kernel, cmd, 0, &push, params->max_shooters); /* a group per shooter */
     gpu_memory_barrier(cmd, cs, VK_ACCESS_SHADER_WRITE_BIT, cs, VK_ACCESS_SHADER_READ_BIT);
     push.mode = RECONSTRUCT_MODE_APPLY;
     gpu_kernel_dispatch_indirect(&p->kernel, cmd, 0, &push, status, dispatch_offset);
