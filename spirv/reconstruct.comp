@@ -170,11 +170,12 @@ vec2 front_fraction_share(gpu_shooter sh, uint lane)
     return vec2(front, total);
 }
 
-// The NORM dispatch runs a workgroup per shooter (reconstruct.c): one
-// invocation looping over every element and texel took about 2.4 ms a
-// shot on a GPU (tools/gpu-check.sh, cornell-large: 10,342 elements and
-// 3 x 64^2 texels in sequence), a third of cross's frame. Each invocation
-// sums a strided share; the group adds the shares in shared memory.
+// The NORM dispatch runs a workgroup per shooter (reconstruct.c). With one
+// invocation looping over every element and texel in sequence (cornell-
+// large: 10,342 elements and 3 x 64^2 texels), the first GPU run's
+// reconstruct took 2.4-3.5 ms a shot whatever the shooter count, a third
+// of cross's frame (tools/gpu-check.sh). Each invocation sums a strided
+// share; the group adds the shares in shared memory.
 shared vec3 s_norm[RECONSTRUCT_GROUP];
 
 vec3 norm_reduce(vec3 v, uint lane)

@@ -605,7 +605,7 @@ def assemble(tmpd, out, started, elapsed, budget, build, device, scenes, methods
             continue
         rows += d.get("rows", [])
         ratios += d.get("ratios", [])
-    variant_rows = {"pairs": [], "mips1": []}
+    variant_rows = {"layered": [], "pairs": [], "mips1": []}
     for v, vrows in variant_rows.items():
         for i, s in enumerate(scene_list):
             try:
@@ -648,6 +648,7 @@ def assemble(tmpd, out, started, elapsed, budget, build, device, scenes, methods
         "suite": suite,
         "bench": {"scenes": scene_list, "methods": method_list, "repeat": int(repeat),
                   "rows": rows, "ratios": ratios, "failed_scenes": failed_scenes,
+                  "layered_path_rows": variant_rows["layered"],
                   "cross_pairs_on_rows": pair_rows,
                   "cross_back_mips_grid1_rows": variant_rows["mips1"]},
         "readme_table": table,
@@ -686,11 +687,13 @@ def assemble(tmpd, out, started, elapsed, budget, build, device, scenes, methods
                 r.get("scene"), r.get("method"), fmt_ms(r.get("frame_ms")), fmt_ms(r.get("gpu_ms")),
                 fmt_err(r.get("nrmse")), fmt_err(r.get("surface_error")), passes))
         print("\n" + table)
-    for label, vrows in (("cross+pairs", pair_rows), ("cross+mips1", variant_rows["mips1"])):
+    for label, vrows in (("+layered", variant_rows["layered"]), ("cross+pairs", pair_rows),
+                         ("cross+mips1", variant_rows["mips1"])):
         for r in vrows:
+            name = r.get("method", "") + label if label == "+layered" else label
             passes = " ".join("%s %s" % (k, fmt_ms(v)) for k, v in (r.get("passes") or {}).items())
             print("%-28s %-12s %10s %10s %8s %8s  %s" % (
-                r.get("scene"), label, fmt_ms(r.get("frame_ms")), fmt_ms(r.get("gpu_ms")),
+                r.get("scene"), name, fmt_ms(r.get("frame_ms")), fmt_ms(r.get("gpu_ms")),
                 fmt_err(r.get("nrmse")), fmt_err(r.get("surface_error")), passes))
     if failed_scenes:
         print("bench failed on: %s" % " ".join(failed_scenes))
@@ -990,26 +993,35 @@ if [ "$DO_BENCH" = 1 ]; then
         fi
         i=$((i + 1))
     done
-    # Cross's options whose default a GPU decides, beside the default
-    # loop, where the bench left time (README "The cross projection's
-    # work"): the pair list (on lavapipe it costs more than it saves), then
-    # one ray a pair read through mipmapped back hemicubes.
+    # Choices a GPU decides, beside the default loop, where the bench left
+    # time: first the layered hemicube path for incremental and cross where
+    # the start-up check chose multiview (the first GPU run spent 9.7 of
+    # cross's 32 ms a frame on the host, recording about 300 render pass
+    # instances on the multiview path, where the layered one draws a pass's
+    # hemicubes in one instance); then cross's options (README "The cross
+    # projection's work"): the pair list (on lavapipe it costs more than it
+    # saves), then one ray a pair read through mipmapped back hemicubes.
     case ",$METHODS," in *,cross,*)
-        for variant in pairs mips1; do
+        for variant in layered pairs mips1; do
+            venv=() vmethods=cross
             case $variant in
+            layered) venv=(XRAD_HEMICUBE_PATH=layered) vmethods=incremental,cross
+                     grep -qE '"hemicube_path":[[:space:]]*"multiview"' "$TMPD"/bench-*.json 2>/dev/null ||
+                         continue ;;
             pairs) vargs=(--cross-pairs on) ;;
             mips1) vargs=(--back-mips on --cross-grid 1) ;;
             esac
+            [ "$variant" != layered ] || vargs=()
             i=0
             for s in "${scene_arr[@]}"; do
                 left=$((bench_end - SECONDS))
                 if [ -f "$s" ] && [ "$left" -gt 5 ]; then
-                    args=("$s" --methods cross --repeat "$REPEAT" --cache "$CACHE" "${vargs[@]}"
+                    args=("$s" --methods "$vmethods" --repeat "$REPEAT" --cache "$CACHE" "${vargs[@]}"
                         --json "$TMPD/$variant-$i.json" "${DEV_ARGS[@]}")
                     [ -z "$MAX_REF" ] || args+=(--max-reference-elements "$MAX_REF")
-                    echo "\$ xrad bench ${args[*]}" >>"$LOGDIR/bench.txt"
-                    timeout -k 10 "$left" "$XRAD" bench "${args[@]}" >>"$LOGDIR/bench.txt" 2>&1 ||
-                        rm -f "$TMPD/$variant-$i.json"
+                    echo "\$ ${venv[*]} xrad bench ${args[*]}" >>"$LOGDIR/bench.txt"
+                    env "${venv[@]}" timeout -k 10 "$left" "$XRAD" bench "${args[@]}" \
+                        >>"$LOGDIR/bench.txt" 2>&1 || rm -f "$TMPD/$variant-$i.json"
                 fi
                 i=$((i + 1))
             done
