@@ -21,7 +21,8 @@
  *                                  static element e: R_p(M, C) + R_x(C, C)
  *   gathered[p]      vec4          R_g(C, M) sums (integrate pass output); then
  *                                  [P + p], [2P + p] the x and y parts of the
- *                                  irradiance vector (integrate_shared.h)
+ *                                  irradiance vector, [3P + p] the horizon
+ *                                  ring's mean radiosity (integrate_shared.h)
  *   surface_patch[s] uint          the patch (ci, cj) = (0, 0) of dynamic surface s (a
  *                                  mesh face: its group); after surface_count of them,
  *                                  the groups' member surfaces

@@ -9,7 +9,9 @@
 // vector too (integrate_shared.h): the delta form factor is cos(theta)
 // dA / pi, so weighting it by d.x / d.z gives the sum of B sin-cos parts
 // that, dotted with a normal n near the hemicube's, gives the gathered
-// sum for n (cross's mesh groups, spirv/cross_update.comp).
+// sum for n to first order (cross's mesh groups, spirv/cross_update.comp),
+// and the mean radiosity of the horizon ring, which corrects it
+// (integrate_shared.h).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 #include "integrate_shared.h"
@@ -24,6 +26,12 @@ layout(std430, binding = INTEGRATE_BINDING_OUT) writeonly buffer Out { vec4 sums
 shared vec3 partial[INTEGRATE_GROUP];
 shared vec3 partial_x[INTEGRATE_GROUP];
 shared vec3 partial_y[INTEGRATE_GROUP];
+shared vec4 partial_ring[INTEGRATE_GROUP];
+
+// The horizon ring (integrate_push.moments): side-face texels with v below
+// this, directions within about 15 degrees above the horizon
+// (cross_update.comp says what it is for).
+const float RING_V = 0.27;
 
 // The texel's direction d in the hemicube's frame, as (d.x / d.z, d.y /
 // d.z): the faces as spirv/reconstruct.comp's front_fraction maps them;
@@ -45,6 +53,7 @@ void main()
     uint res = pc.res, face_px = res * res, half_px = face_px / 2u;
     uint weighted = face_px + 4u * half_px;
     vec3 sum = vec3(0.0), sum_x = vec3(0.0), sum_y = vec3(0.0);
+    vec4 ring = vec4(0.0);
     for (uint i = gl_LocalInvocationID.x; i < weighted; i += INTEGRATE_GROUP) {
         uint face, px; // px: row * res + col within the face
         if (i < face_px) {
@@ -56,24 +65,32 @@ void main()
             px = half_px + j % half_px; // rows res/2 .. res-1: above the horizon
         }
         ivec3 at = ivec3(int(px % res), int(px / res), int(h * 5u + face));
-        vec3 w = texelFetch(hemicubes, at, 0).rgb * table[face * face_px + px];
+        vec3 b = texelFetch(hemicubes, at, 0).rgb, w = b * table[face * face_px + px];
         sum += w;
         if (pc.moments != 0u) {
             vec2 k = slope(face, px, res);
             sum_x += w * k.x;
             sum_y += w * k.y;
+            float u = (float(px % res) + 0.5) / float(res) * 2.0 - 1.0;
+            float v = (float(px / res) + 0.5) / float(res) * 2.0 - 1.0;
+            if (face != 0u && v < RING_V) {
+                float r2 = u * u + v * v + 1.0, dw = 1.0 / (r2 * sqrt(r2)); // solid angle
+                ring += vec4(b * dw, dw);
+            }
         }
     }
     uint l = gl_LocalInvocationID.x;
     partial[l] = sum;
     partial_x[l] = sum_x;
     partial_y[l] = sum_y;
+    partial_ring[l] = ring;
     barrier();
     for (uint stride = INTEGRATE_GROUP / 2u; stride > 0u; stride /= 2u) {
         if (l < stride) {
             partial[l] += partial[l + stride];
             partial_x[l] += partial_x[l + stride];
             partial_y[l] += partial_y[l + stride];
+            partial_ring[l] += partial_ring[l + stride];
         }
         barrier();
     }
@@ -82,6 +99,9 @@ void main()
         if (pc.moments != 0u) {
             sums[pc.moments_first + h] = vec4(partial_x[0] * pc.inv_scale, 0.0);
             sums[pc.moments_first + pc.count + h] = vec4(partial_y[0] * pc.inv_scale, 0.0);
+            vec4 r = partial_ring[0];
+            sums[pc.moments_first + 2u * pc.count + h] =
+                vec4(r.w > 0.0 ? r.rgb / r.w * pc.inv_scale : vec3(0.0), 0.0);
         }
     }
 }

@@ -21,7 +21,9 @@ struct integrate_push {
     /* Non-zero: also the sums weighted by the texel direction's d.x / d.z
      * and d.y / d.z in the hemicube's frame (the x and y parts of the
      * irradiance vector, whose z part is the sum) to out[moments_first + h]
-     * and out[moments_first + count + h]. */
+     * and out[moments_first + count + h]; and the horizon ring's mean
+     * radiosity (solid-angle weighted, directions within about 15 degrees
+     * above the horizon) to out[moments_first + 2 count + h]. */
     uint moments;
     uint moments_first;
     uint pad0, pad1;

@@ -120,8 +120,9 @@ typedef struct cross {
     uint32_t back_levels;     /* mip levels above 0 the projection reads */
     gpu_buffer patches;       /* struct cross_patch[P] */
     gpu_buffer values;        /* struct cross_value[P] */
-    gpu_buffer gathered;      /* vec4[3 P]: per patch the gathered sum, then its irradiance
-                                 vector's x and y parts (integrate_shared.h; mesh groups) */
+    gpu_buffer gathered;      /* vec4[4 P]: per patch the gathered sum, then its irradiance
+                                 vector's x and y parts and its horizon ring's mean
+                                 (integrate_shared.h; mesh groups) */
     gpu_buffer surface_patch; /* uint[dp.surface_patch_size] */
     gpu_buffer shot;          /* vec4[element_count]: B - Bu of C, 0 on M */
     gpu_buffer inserted;      /* vec4[element_count]: what step 5 last added to C */
@@ -344,7 +345,7 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
         (st = gpu_buffer_create(ctx, P * sizeof(struct cross_value),
                                 storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->values, err)) ||
-        (st = gpu_buffer_create(ctx, 3 * P * sizeof(vec4), storage, GPU_MEM_DEVICE,
+        (st = gpu_buffer_create(ctx, 4 * P * sizeof(vec4), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->gathered, err)) ||
         (st = gpu_buffer_create(ctx, c->dp.surface_patch_size * sizeof(uint32_t), storage,
                                 GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &c->surface_patch, err)) ||

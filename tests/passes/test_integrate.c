@@ -21,6 +21,11 @@
  *    (1 / 2 pi) sum_k gamma_k unit(R_k x R_k+1) over the square's edges, in
  *    the hemicube's frame, within 1e-2 of its length with 4 samples; so
  *    that n . (x, y, sum) gives the gathered sum of a tilted normal n.
+ *  - the horizon ring's mean radiosity (integrate_shared.h, moments): E
+ *    inside the uniform box (1e-3), 0 under the square; and with it
+ *    n . (x, y, sum) + (1 - n_z) ring, the gathered sum cross gives a mesh
+ *    face tilted from its group's hemicube (cross_update.comp), is E for
+ *    every tilt in the uniform box, where the vector alone gives E n_z.
  */
 #include <stdio.h>
 #include <string.h>
@@ -84,10 +89,11 @@ static struct gpu_shooter to_shooter(const frame *f)
 }
 
 /* B -> atlas, n radiosity hemicubes, integrate; sums[h] rgb, and with
- * `moments` moments[h][0..1] the irradiance vector's x and y parts. */
+ * `moments` moments[h][0..1] the irradiance vector's x and y parts,
+ * moments[h][2] the horizon ring's mean radiosity. */
 static xrad_status gather_moments(xrad_context *ctx, const xrad_scene *sc, const frame *frames,
                                   uint32_t n, uint32_t msaa, float scale, double sums[][3],
-                                  double (*moments)[2][3])
+                                  double (*moments)[3][3])
 {
     xrad_error err = {0};
     gpu_scene gs = {0};
@@ -114,7 +120,7 @@ static xrad_status gather_moments(xrad_context *ctx, const xrad_scene *sc, const
         (s = integrate_create(ctx, RES, &ip, &err)) || (s = atlas_scatter_create(ctx, &sp, &err)) ||
         (s = gpu_buffer_create(ctx, sizeof(sh), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
                                GPU_MEM_GEOMETRY, &fbuf, &err)) ||
-        (s = gpu_buffer_create(ctx, 3 * MAX_CUBES * sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+        (s = gpu_buffer_create(ctx, 4 * MAX_CUBES * sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                GPU_MEM_READBACK, GPU_MEM_OTHER, &out, &err)) ||
         (s = gpu_upload_buffer(ctx, &fbuf, 0, sh, n * sizeof(sh[0]), &err)) ||
         (s = gpu_cmd_begin(ctx, &c, &err)))
@@ -149,7 +155,7 @@ static xrad_status gather_moments(xrad_context *ctx, const xrad_scene *sc, const
         sums[h][0] = v[h].x;
         sums[h][1] = v[h].y;
         sums[h][2] = v[h].z;
-        for (int a = 0; moments && a < 2; a++) {
+        for (int a = 0; moments && a < 3; a++) {
             moments[h][a][0] = v[(1 + a) * n + h].x;
             moments[h][a][1] = v[(1 + a) * n + h].y;
             moments[h][a][2] = v[(1 + a) * n + h].z;
@@ -210,16 +216,34 @@ static void test_uniform_box(xrad_context *ctx, double e, uint32_t msaa, double 
     xrad_scene *sc = load_box(em, em);
     if (!sc)
         return;
-    double sums[MAX_CUBES][3];
-    if (!gather_sums(ctx, sc, uniform_frames, MAX_CUBES, msaa, (float)(1.0 / e), sums)) {
+    double sums[MAX_CUBES][3], moments[MAX_CUBES][3][3];
+    if (!gather_moments(ctx, sc, uniform_frames, MAX_CUBES, msaa, (float)(1.0 / e), sums,
+                        moments)) {
         for (int h = 0; h < MAX_CUBES; h++) {
-            double worst = 0;
-            for (int c = 0; c < 3; c++)
+            double worst = 0, ring = 0, tilted = 0;
+            for (int c = 0; c < 3; c++) {
                 worst = fmax(worst, fabs(sums[h][c] - em[c]) / em[c]);
-            fprintf(stderr, "uniform box E = %g, %u sample(s), hemicube %d: worst relative error %.2e\n",
-                    e, msaa, h, worst);
+                ring = fmax(ring, fabs(moments[h][2][c] - em[c]) / em[c]);
+                /* A face tilted 40 degrees from the hemicube's axis, and
+                 * one at 80 degrees, in the hemicube's frame. */
+                for (int k = 0; k < 2; k++) {
+                    double t = (k ? 80 : 40) * M_PI / 180, phi = 0.4 + h;
+                    double n[3] = {sin(t) * cos(phi), sin(t) * sin(phi), cos(t)};
+                    double g = n[0] * moments[h][0][c] + n[1] * moments[h][1][c] +
+                               n[2] * sums[h][c] + (1 - n[2]) * moments[h][2][c];
+                    tilted = fmax(tilted, fabs(g - em[c]) / em[c]);
+                }
+            }
+            fprintf(stderr,
+                    "uniform box E = %g, %u sample(s), hemicube %d: worst relative error %.2e, "
+                    "horizon ring %.2e, faces tilted 40 and 80 degrees %.2e\n",
+                    e, msaa, h, worst, ring, tilted);
             CHECK(worst < tol, "E = %g, msaa %u, hemicube %d: (%g %g %g) vs (%g %g %g)", e, msaa,
                   h, sums[h][0], sums[h][1], sums[h][2], em[0], em[1], em[2]);
+            CHECK(ring < tol, "E = %g, msaa %u, hemicube %d: horizon ring (%g %g %g) vs E", e, msaa,
+                  h, moments[h][2][0], moments[h][2][1], moments[h][2][2]);
+            CHECK(tilted < 2 * tol, "E = %g, msaa %u, hemicube %d: a tilted face's sum %.3g off E",
+                  e, msaa, h, tilted);
         }
     }
     xrad_scene_destroy(&sc);
@@ -284,7 +308,7 @@ static void test_moments(xrad_context *ctx)
         return;
     /* Unrotated, facing up: the hemicube's x and y are the world's. */
     const frame frames[2] = {{{0.2, 0.3, 0}, {0, 0, 1}, 0}, {{0.85, 0.6, 0}, {0, 0, 1}, 0}};
-    double sums[2][3], moments[2][2][3];
+    double sums[2][3], moments[2][3][3];
     if (!gather_moments(ctx, sc, frames, 2, 4, 1.0f / 3, sums, moments)) {
         for (int h = 0; h < 2; h++) {
             vec3 v = square_vector(frames[h].origin);
@@ -301,6 +325,11 @@ static void test_moments(xrad_context *ctx)
                     frames[h].origin.x, frames[h].origin.y, moments[h][0][0] / e[0],
                     moments[h][1][0] / e[0], sums[h][0] / e[0], v.x, v.y, v.z, worst);
             CHECK(worst < 1e-2, "irradiance vector, hemicube %d: worst error %.3g", h, worst);
+            /* The square at height 1 lies above every direction within 15
+             * degrees of the horizon from inside its footprint. */
+            for (int c = 0; c < 3; c++)
+                CHECK(moments[h][2][c] == 0, "horizon ring, hemicube %d: %g where it shows "
+                      "nothing", h, moments[h][2][c]);
         }
     }
     xrad_scene_destroy(&sc);

@@ -17,14 +17,19 @@
  *    every base of a batch or on the ball's far side.
  *
  * Bounds are about 1.5 times what was measured when they were set
- * (surface_error / element p95: cross 80 faces 0.035 / 0.015, 320 faces
- * 0.080 / 0.029; without groups' irradiance vectors and the depth rule:
- * 0.047 / 0.018, refused, 0.236 / 0.072), progressive's twice (320 faces
- * 0.0104 / 0.0106, mean ratio 0.9964; it was 0.027 / 0.025 and a mean
- * ratio of 0.982 when it stopped on the largest unshot power alone, which
- * 1280 small elements each below it met with 1.8% of the light unshot,
- * and when the faces' shadows took the texels' occluders alone); the mean
- * over all elements within 1%.
+ * (surface_error / element p95: cross 80 faces 0.029 / 0.010, 320 faces
+ * 0.058 / 0.011; without the horizon ring's term (cross_update.comp)
+ * 0.033 / 0.010 and 0.078 / 0.020; without groups' irradiance vectors and
+ * the depth rule: 0.047 / 0.018, refused, 0.236 / 0.072), progressive's
+ * twice (320 faces 0.0104 / 0.0106, mean ratio 0.9964; it was 0.027 /
+ * 0.025 and a mean ratio of 0.982 when it stopped on the largest unshot
+ * power alone, which 1280 small elements each below it met with 1.8% of
+ * the light unshot, and when the faces' shadows took the texels' occluders
+ * alone); the mean over all elements within 1%. Cross's worst faces are
+ * the 320-face ball's lowest, 0.95-1.06 of the CPU reference's: they look
+ * 30 cm down at the ball's own shadow from up to 13 cm off the pole, and
+ * the likely cause (not measured) is parallax, which one hemicube per group
+ * cannot show.
  */
 #include <stdio.h>
 #include <string.h>
@@ -156,10 +161,10 @@ int main(int argc, char **argv)
     if (!ctx)
         return test_finish();
     if (!only || !strcmp(only, "cross")) {
-        check_method(ctx, "tests/data/ball-room-80.json", XRAD_METHOD_CROSS, "cross", 0.055,
-                     0.025, 0.01);
-        check_method(ctx, "tests/data/ball-room-320.json", XRAD_METHOD_CROSS, "cross", 0.12,
-                     0.045, 0.01);
+        check_method(ctx, "tests/data/ball-room-80.json", XRAD_METHOD_CROSS, "cross", 0.045,
+                     0.015, 0.01);
+        check_method(ctx, "tests/data/ball-room-320.json", XRAD_METHOD_CROSS, "cross", 0.087,
+                     0.017, 0.01);
     }
     if (!only || !strcmp(only, "progressive"))
         check_method(ctx, "tests/data/ball-room-320.json", XRAD_METHOD_PROGRESSIVE,
