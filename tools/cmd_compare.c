@@ -3,6 +3,7 @@
  * ratio and relative RMS over pixels that show a non-emitting surface);
  * with --scene, the element-space figures of two solutions of one scene
  * (atlases written by xrad render --atlas). */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,7 +15,7 @@
 static void help(void)
 {
     printf("usage: xrad compare A.exr|A.png B.exr|B.png [--diff FILE.exr|FILE.png]\n"
-           "       xrad compare --scene SCENE.json A.exr B.exr [--surfaces]\n\n"
+           "       xrad compare --scene SCENE.json A.exr B.exr [--surfaces] [--elements FILE.csv]\n\n"
            "B is the reference. Images (EXR or PNG; PNG values are compared linear, sRGB\n"
            "decoded, so compare PNGs of one exposure) print, in this order:\n"
            "  nrmse <v>       RMS over all pixels and RGB channels of (A - B), divided by\n"
@@ -40,13 +41,16 @@ static void help(void)
            "  --diff FILE        also write |A - B| per channel (EXR linear, PNG auto-exposed)\n"
            "  --scene SCENE      compare element atlases of this scene\n"
            "  --surfaces         with --scene: one line per surface, 'surface <name> ratio <r>'\n"
+           "  --elements FILE    with --scene: write every counted element as CSV, worst\n"
+           "                     first: surface, i, j, x, y, z (its sample in object space,\n"
+           "                     m), a, b (R + G + B), rel (as element_p95 ranks it)\n"
            "  --preset NAME, --density-scale X   with --scene: as given to xrad render, when\n"
            "                     they changed the element layout\n"
            "\nExit status 1 for unreadable files or sizes that do not match (both named).\n");
 }
 
 typedef struct compare_opts {
-    const char *a, *b, *diff, *scene;
+    const char *a, *b, *diff, *scene, *elements;
     int surfaces;
     method_settings m;
 } compare_opts;
@@ -107,6 +111,91 @@ static int compare_images(const compare_opts *o)
     return rc;
 }
 
+typedef struct element_row {
+    uint32_t surface, i, j;
+    double a, b, rel;
+} element_row;
+
+static int worst_first(const void *x, const void *y)
+{
+    double a = ((const element_row *)x)->rel, b = ((const element_row *)y)->rel;
+    return (a < b) - (a > b);
+}
+
+static double texel_sum(const xrad_atlas *at, uint32_t x, uint32_t y)
+{
+    const float *t = at->rgba + 4 * ((size_t)y * at->width + x);
+    return (double)t[0] + t[1] + t[2];
+}
+
+/* Every counted element of atlases at[0] (a) and at[1] (b) as CSV rows,
+ * worst first: what element_p95 ranks, with where it is. The 1e-3 floor
+ * takes b's mean over the elements weighted by their surface's area per
+ * element, close to the library's exact cell areas. */
+static int write_elements(const char *path, const xrad_scene *scene, const xrad_scene_info *info,
+                          const xrad_atlas at[2])
+{
+    xrad_error err = {0};
+    element_row *rows = calloc(info->elements ? info->elements : 1, sizeof(*rows));
+    if (!rows) {
+        fprintf(stderr, "xrad compare: out of memory\n");
+        return 2;
+    }
+    size_t n = 0;
+    double sum = 0, area = 0;
+    for (uint32_t s = 0; s < info->surfaces; s++) {
+        xrad_surface_info si;
+        if (xrad_scene_get_surface(scene, s, &si, &err) || method_surface_emits(scene, s))
+            continue;
+        double w = si.area / ((double)si.nu * si.nv);
+        for (uint32_t j = 0; j < si.nv; j++)
+            for (uint32_t i = 0; i < si.nu && n < info->elements; i++, n++) {
+                rows[n] = (element_row){s, i, j, texel_sum(&at[0], si.tile_x + i, si.tile_y + j),
+                                        texel_sum(&at[1], si.tile_x + i, si.tile_y + j), 0};
+                sum += w * rows[n].b;
+                area += w;
+            }
+    }
+    double floor_b = area > 0 ? 1e-3 * sum / area : 0;
+    for (size_t k = 0; k < n; k++) {
+        double d = rows[k].b > floor_b ? rows[k].b : floor_b;
+        rows[k].rel = d > 0 ? fabs(rows[k].a - rows[k].b) / d : 0;
+    }
+    qsort(rows, n, sizeof(*rows), worst_first);
+    FILE *f = fopen(path, "w");
+    if (!f) {
+        fprintf(stderr, "xrad compare: %s: cannot write: %s\n", path, strerror(errno));
+        free(rows);
+        return 1;
+    }
+    fprintf(f, "surface,i,j,x,y,z,a,b,rel\n");
+    char name[256];
+    for (size_t k = 0; k < n; k++) {
+        xrad_surface_info si;
+        xrad_scene_get_surface(scene, rows[k].surface, &si, &err);
+        /* The sample's parameters (s, t) = (i, j) / (n - 1) on the corners
+         * as drawn: bilinear on a quad, collapsed to the apex p2 on a
+         * triangle (xrad_surface_info). */
+        double s = si.nu > 1 ? (double)rows[k].i / (si.nu - 1) : 0.5;
+        double t = si.nv > 1 ? (double)rows[k].j / (si.nv - 1) : 0.5;
+        const double *p3 = si.triangle ? si.corners[2] : si.corners[3];
+        double x[3];
+        for (int c = 0; c < 3; c++)
+            x[c] = (1 - t) * ((1 - s) * si.corners[0][c] + s * si.corners[1][c]) +
+                   t * ((1 - s) * p3[c] + s * si.corners[2][c]);
+        method_surface_label(scene, rows[k].surface, name, sizeof(name));
+        fprintf(f, "\"%s\",%u,%u,%.6g,%.6g,%.6g,%.7g,%.7g,%.7g\n", name, rows[k].i, rows[k].j,
+                x[0], x[1], x[2], rows[k].a, rows[k].b, rows[k].rel);
+    }
+    int rc = 0;
+    if (fclose(f)) {
+        fprintf(stderr, "xrad compare: %s: write failed: %s\n", path, strerror(errno));
+        rc = 1;
+    }
+    free(rows);
+    return rc;
+}
+
 static int compare_atlases(compare_opts *o)
 {
     xrad_error err = {0};
@@ -160,6 +249,8 @@ static int compare_atlases(compare_opts *o)
             }
         }
     }
+    if (rc == 0 && o->elements)
+        rc = write_elements(o->elements, scene, &info, at);
     free(ratio);
     free(at[0].rgba);
     free(at[1].rgba);
@@ -183,6 +274,8 @@ int cmd_compare(int argc, char **argv)
             o.scene = cli_value(&a);
         } else if (!strcmp(opt, "surfaces")) {
             o.surfaces = 1;
+        } else if (!strcmp(opt, "elements")) {
+            o.elements = cli_value(&a);
         } else if (!strcmp(opt, "preset") || !strcmp(opt, "density-scale")) {
             method_solver_option(&a, opt, &o.m);
         } else {
@@ -198,8 +291,8 @@ int cmd_compare(int argc, char **argv)
     o.b = a.positional[1];
     if (o.scene && o.diff)
         return cli_usage_error("compare", "--diff compares images; it does not go with --scene");
-    if (!o.scene && (o.surfaces || o.m.preset || o.m.override_count))
-        return cli_usage_error("compare", "--surfaces, --preset and --density-scale need "
-                                          "--scene");
+    if (!o.scene && (o.surfaces || o.elements || o.m.preset || o.m.override_count))
+        return cli_usage_error("compare", "--surfaces, --elements, --preset and "
+                                          "--density-scale need --scene");
     return o.scene ? compare_atlases(&o) : compare_images(&o);
 }

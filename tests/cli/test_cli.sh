@@ -180,6 +180,25 @@ expect_text "$tmp/out" "^surface light emitter (not counted)$" "emitters are nam
 checks=$((checks + 1))
 awk '/^surface_error/ { exit !($2 > 0) }' "$tmp/out" ||
     { fails=$((fails + 1)); echo "FAIL: progressive has no surface error"; }
+# --elements: every counted element, worst first, the worst as element_max ranks it.
+expect 0 "compare --scene --elements" -- "$xrad" compare --scene "$box" "$tmp/box-pr-atlas.exr" "$tmp/box-ref-atlas.exr" --elements "$tmp/elements.csv"
+checks=$((checks + 1))
+n=$(awk '/^elements/ { print $2 }' "$tmp/out"); max=$(awk '/^element_max/ { print $2 }' "$tmp/out")
+awk -F, -v n="$n" -v max="$max" '
+    NR == 1 { if ($0 != "surface,i,j,x,y,z,a,b,rel") { print "header: " $0; bad = 1 }; next }
+    NR == 2 { top = $9 }
+    NR > 2 && $9 > last { print "row " NR " ranks above the row before it"; bad = 1 }
+    { last = $9 }
+    END { if (NR - 1 != n) { print NR - 1 " rows for " n " elements"; bad = 1 }
+          if (top - max > 1e-4 * max || max - top > 1e-4 * max) { print "worst " top " but element_max " max; bad = 1 }
+          exit bad }' "$tmp/elements.csv" ||
+    { fails=$((fails + 1)); echo "FAIL: compare --elements:"; head -3 "$tmp/elements.csv" | sed 's/^/    /'; }
+expect 0 "compare --elements, reference against itself" -- "$xrad" compare --scene "$box" "$tmp/box-ref-atlas.exr" "$tmp/box-ref-atlas.exr" --elements "$tmp/same.csv"
+checks=$((checks + 1))
+awk -F, 'NR > 1 && $9 != 0 { exit 1 } END { exit NR < 2 }' "$tmp/same.csv" ||
+    { fails=$((fails + 1)); echo "FAIL: a solution against itself has element errors"; }
+expect 1 "--elements to a path that cannot be written" -- "$xrad" compare --scene "$box" "$tmp/box-ref-atlas.exr" "$tmp/box-ref-atlas.exr" --elements "$tmp/no/such/dir.csv"
+expect_text "$tmp/err" "no/such/dir.csv: cannot write" "the path is named"
 expect 1 "compare --scene with an image for an atlas" -- "$xrad" compare --scene "$box" "$tmp/box-pr.exr" "$tmp/box-ref-atlas.exr"
 expect_text "$tmp/err" "box-pr.exr is 64x64" "the file of the wrong size is named"
 expect_text "$tmp/err" "cornell-box.json's element atlas" "the scene is named"
