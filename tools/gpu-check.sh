@@ -8,7 +8,9 @@
 #      when it sees none), prints the device and the hemicube path chosen
 #      (multiview or layered),
 #   4. runs `xrad bench` of the four thesis scenes with progressive,
-#      incremental and cross (per-pass GPU times, frame-time ratios),
+#      incremental and cross (per-pass GPU times, frame-time ratios), and
+#      where time is left incremental and cross on the layered path (when
+#      multiview was chosen) and cross with two of its options,
 #   5. runs the test suite on that GPU under a wall-clock cap,
 # and writes ONE JSON file with all of it ($OUT/gpu-check.json where OUT is
 # set, else out/gpu-check.json), with the logs beside it.
