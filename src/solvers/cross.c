@@ -751,17 +751,9 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
     xrad_status st = c->P ? clear_inserted(s, c, err) : XRAD_OK;
     if (!st)
         st = progressive_run(s, c->prog, true, 0, err);
-    /* The rounds shoot what M changes at this pose with the restart's
-     * finer patches: with the frames' linear rule, few large patches shot
-     * the shadow M casts around the plinth from their centres, and
-     * cornell-small's plinth sides came out 0.84-1.31 of the CPU
-     * reference's (surface_error 0.31, element p95 0.23; 0.084 and 0.148
-     * with these). Frames keep the linear rule (select.comp says why). */
-    progressive_set_square_root_rule(c->prog, true);
     for (int round = 0; c->P && !st && round < SOLVE_ROUNDS; round++)
         if (!(st = redistribute(s, c, s->desc.time, err)))
             st = progressive_run(s, c->prog, false, 0, err);
-    progressive_set_square_root_rule(c->prog, false);
     solver_collect_times(s);
     return st;
 }
