@@ -34,11 +34,12 @@
 // At albedo 0.999 a gain above 1 makes the solution diverge and a loss of
 // 1e-3 costs half the light; below that, total power misses the bound
 // E / (1 - rho_max) by a few percent. So a shot stores every F (MODE_FF);
-// per shooter (MODE_NORM, a workgroup each) f_s is the delta-form-factor sum of the ID
-// hemicube's texels that show a surface's front (not the background, not a
-// back face, which absorbs), and the form factors are scaled so that the
-// receivers take exactly A_s f_s; then the transfer (MODE_APPLY). In a
-// closed scene every shot then conserves the power it shoots.
+// per shooter (MODE_NORM, a workgroup each) f_s is the delta-form-factor
+// sum of the ID hemicube's texels that show a surface's front (not the
+// background, not a back face, which absorbs), and the form factors are
+// scaled so that the receivers take exactly A_s f_s; then the transfer
+// (MODE_APPLY). In a closed scene every shot then conserves the power it
+// shoots.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 #include "radiosity.h"

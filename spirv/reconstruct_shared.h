@@ -28,7 +28,8 @@
 #define RECONSTRUCT_MODE_NORM 2u     /* a workgroup per shooter: the normalisation from ff[] */
 #define RECONSTRUCT_MODE_APPLY 3u    /* per receiver: rho sum_s B_s F norm_s */
 
-#define RECONSTRUCT_GROUP 64u /* one invocation per receiving element; a power of two (NORM sums by halving) */
+/* One invocation per receiving element; a power of two (NORM sums by halving). */
+#define RECONSTRUCT_GROUP 64u
 
 struct reconstruct_push {
     uint element_count;
