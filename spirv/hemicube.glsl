@@ -13,6 +13,36 @@ const vec3 HEMICUBE_UP[5] = vec3[5](vec3(0, 1, 0), vec3(0, 0, 1), vec3(0, 0, 1),
 const vec3 HEMICUBE_FORWARD[5] = vec3[5](vec3(0, 0, 1), vec3(1, 0, 0), vec3(-1, 0, 0),
                                          vec3(0, 1, 0), vec3(0, -1, 0));
 
+// Texel i (< 3 res^2) of the part of a hemicube that weighs (thesis 2.2.2):
+// the top face's res^2 texels, then each side face's upper half, rows
+// res/2 .. res-1 (res even). Returns the face; `texel` is (column, row).
+uint hemicube_weighted_texel(uint i, uint res, out uvec2 texel)
+{
+    uint top = res * res, half_face = top / 2u;
+    if (i < top) {
+        texel = uvec2(i % res, i / res);
+        return 0u;
+    }
+    uint j = i - top, r = half_face + j % half_face;
+    texel = uvec2(r % res, r / res);
+    return 1u + j / half_face;
+}
+
+// The direction of a texel's centre in the hemicube's local frame, with
+// unit component along the face's axis (the faces as hemicube_face below
+// maps directions to them). Its delta form factor is d.z / (pi |d|^4) of
+// the texel's area, its solid angle 1 / |d|^3 of it.
+vec3 hemicube_texel_direction(uint face, uvec2 texel, uint res)
+{
+    vec2 uv = (vec2(texel) + 0.5) / float(res) * 2.0 - 1.0;
+    float u = uv.x, v = uv.y;
+    return face == 0u ? vec3(u, v, 1.0)
+         : face == 1u ? vec3(1.0, u, v)
+         : face == 2u ? vec3(-1.0, -u, v)
+         : face == 3u ? vec3(-u, 1.0, v)
+                      : vec3(u, -1.0, v);
+}
+
 // Clip position of local direction d on `face`: reversed-Z with an infinite
 // far plane (depth = near / distance along the face axis; clear to 0, test
 // GREATER), so that everything nearer than `near` is clipped.

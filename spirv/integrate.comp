@@ -15,6 +15,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 #include "integrate_shared.h"
+#include "hemicube.glsl"
 
 layout(local_size_x = INTEGRATE_GROUP) in;
 
@@ -33,50 +34,27 @@ shared vec4 partial_ring[INTEGRATE_GROUP];
 // (cross_update.comp says what it is for).
 const float RING_V = 0.27;
 
-// The texel's direction d in the hemicube's frame, as (d.x / d.z, d.y /
-// d.z): the faces as spirv/reconstruct.comp's front_fraction maps them;
-// side faces' texels lie above the horizon (v > 0).
-vec2 slope(uint face, uint px, uint res)
-{
-    float u = (float(px % res) + 0.5) / float(res) * 2.0 - 1.0;
-    float v = (float(px / res) + 0.5) / float(res) * 2.0 - 1.0;
-    return face == 0u ? vec2(u, v)
-         : face == 1u ? vec2(1.0, u) / v
-         : face == 2u ? vec2(-1.0, -u) / v
-         : face == 3u ? vec2(-u, 1.0) / v
-                      : vec2(u, -1.0) / v;
-}
-
 void main()
 {
     uint h = gl_WorkGroupID.x;
-    uint res = pc.res, face_px = res * res, half_px = face_px / 2u;
-    uint weighted = face_px + 4u * half_px;
+    uint res = pc.res, face_px = res * res;
+    uint weighted = 3u * face_px; // the top face and four upper halves
     vec3 sum = vec3(0.0), sum_x = vec3(0.0), sum_y = vec3(0.0);
     vec4 ring = vec4(0.0);
     for (uint i = gl_LocalInvocationID.x; i < weighted; i += INTEGRATE_GROUP) {
-        uint face, px; // px: row * res + col within the face
-        if (i < face_px) {
-            face = 0u;
-            px = i;
-        } else {
-            uint j = i - face_px;
-            face = 1u + j / half_px;
-            px = half_px + j % half_px; // rows res/2 .. res-1: above the horizon
-        }
-        ivec3 at = ivec3(int(px % res), int(px / res), int(h * 5u + face));
-        vec3 b = texelFetch(hemicubes, at, 0).rgb, w = b * table[face * face_px + px];
+        uvec2 t;
+        uint face = hemicube_weighted_texel(i, res, t);
+        ivec3 at = ivec3(ivec2(t), int(h * 5u + face));
+        vec3 b = texelFetch(hemicubes, at, 0).rgb;
+        vec3 w = b * table[face * face_px + t.y * res + t.x];
         sum += w;
         if (pc.moments != 0u) {
-            vec2 k = slope(face, px, res);
-            sum_x += w * k.x;
-            sum_y += w * k.y;
-            float u = (float(px % res) + 0.5) / float(res) * 2.0 - 1.0;
-            float v = (float(px / res) + 0.5) / float(res) * 2.0 - 1.0;
-            if (face != 0u && v < RING_V) {
-                float r2 = u * u + v * v + 1.0, dw = 1.0 / (r2 * sqrt(r2)); // solid angle
-                ring += vec4(b * dw, dw);
-            }
+            vec3 d = hemicube_texel_direction(face, t, res);
+            sum_x += w * (d.x / d.z);
+            sum_y += w * (d.y / d.z);
+            float r2 = dot(d, d);
+            if (face != 0u && d.z < RING_V)
+                ring += vec4(b, 1.0) / (r2 * sqrt(r2)); // by solid angle
         }
     }
     uint l = gl_LocalInvocationID.x;

@@ -138,32 +138,22 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
 // form factors, thesis 2.2.2: dA / (pi (u^2 + v^2 + 1)^2) on the top face,
 // times v on a side face's upper half) that its ID hemicube shows as a
 // surface's front side: (front, total) over every RECONSTRUCT_GROUP-th
-// texel of the top face's res^2 and the side faces' upper halves (res^2 / 2
-// each), from texel lane on. norm_reduce() sums the shares.
+// weighing texel (hemicube_weighted_texel) from lane on. norm_reduce() sums
+// the shares.
 vec2 front_fraction_share(gpu_shooter sh, uint lane)
 {
-    uint res = pc.hemicube_res, top = res * res, half_face = top / 2u;
+    uint res = pc.hemicube_res;
     vec3 t = sh.tangent.xyz, ns = sh.normal.xyz, b = cross(ns, t);
     float total = 0.0, front = 0.0;
-    for (uint i = lane; i < top + 4u * half_face; i += RECONSTRUCT_GROUP) {
-        uint face = i < top ? 0u : 1u + (i - top) / half_face;
-        uint r = i < top ? i : (i - top) % half_face;
-        uint row = (face == 0u ? 0u : res / 2u) + r / res, col = r % res;
-        float v = (float(row) + 0.5) / float(res) * 2.0 - 1.0;
-        float u = (float(col) + 0.5) / float(res) * 2.0 - 1.0;
-        float r2 = u * u + v * v + 1.0;
-        float w = (face == 0u ? 1.0 : v) / (r2 * r2);
+    for (uint i = lane; i < 3u * res * res; i += RECONSTRUCT_GROUP) {
+        uvec2 texel;
+        uint face = hemicube_weighted_texel(i, res, texel);
+        vec3 d = hemicube_texel_direction(face, texel, res);
+        float r2 = dot(d, d), w = d.z / (r2 * r2);
         total += w;
-        uint id = texelFetch(hemicubes, ivec3(int(col), int(row), int(sh.hemicube * 5u + face)), 0).r;
+        uint id = texelFetch(hemicubes, ivec3(ivec2(texel), int(sh.hemicube * 5u + face)), 0).r;
         if (id == 0u)
             continue;
-        // The texel's direction in the shooter's frame, as hemicube_face
-        // maps directions to faces.
-        vec3 d = face == 0u ? vec3(u, v, 1.0)
-               : face == 1u ? vec3(1.0, u, v)
-               : face == 2u ? vec3(-1.0, -u, v)
-               : face == 3u ? vec3(-u, 1.0, v)
-                            : vec3(u, -1.0, v);
         vec3 world = d.x * t + d.y * b + d.z * ns;
         if (dot(world, surfaces[id - 1u].normal_area.xyz) < 0.0)
             front += w;
