@@ -113,8 +113,22 @@ static int compare_images(const compare_opts *o)
 
 typedef struct element_row {
     uint32_t surface, i, j;
+    double x[3]; /* the sample, object space */
     double a, b, rel;
 } element_row;
+
+/* Sample (i, j) of surface si at parameters (s, t) = (i, j) / (n - 1) on
+ * the corners as drawn: bilinear on a quad, collapsed to the apex p2 on a
+ * triangle (xrad_surface_info). */
+static void sample_position(const xrad_surface_info *si, uint32_t i, uint32_t j, double x[3])
+{
+    double s = si->nu > 1 ? (double)i / (si->nu - 1) : 0.5;
+    double t = si->nv > 1 ? (double)j / (si->nv - 1) : 0.5;
+    const double *p3 = si->triangle ? si->corners[2] : si->corners[3];
+    for (int c = 0; c < 3; c++)
+        x[c] = (1 - t) * ((1 - s) * si->corners[0][c] + s * si->corners[1][c]) +
+               t * ((1 - s) * p3[c] + s * si->corners[2][c]);
+}
 
 static int worst_first(const void *x, const void *y)
 {
@@ -150,8 +164,10 @@ static int write_elements(const char *path, const xrad_scene *scene, const xrad_
         double w = si.area / ((double)si.nu * si.nv);
         for (uint32_t j = 0; j < si.nv; j++)
             for (uint32_t i = 0; i < si.nu && n < info->elements; i++, n++) {
-                rows[n] = (element_row){s, i, j, texel_sum(&at[0], si.tile_x + i, si.tile_y + j),
-                                        texel_sum(&at[1], si.tile_x + i, si.tile_y + j), 0};
+                rows[n] = (element_row){.surface = s, .i = i, .j = j,
+                                        .a = texel_sum(&at[0], si.tile_x + i, si.tile_y + j),
+                                        .b = texel_sum(&at[1], si.tile_x + i, si.tile_y + j)};
+                sample_position(&si, i, j, rows[n].x);
                 sum += w * rows[n].b;
                 area += w;
             }
@@ -171,21 +187,9 @@ static int write_elements(const char *path, const xrad_scene *scene, const xrad_
     fprintf(f, "surface,i,j,x,y,z,a,b,rel\n");
     char name[256];
     for (size_t k = 0; k < n; k++) {
-        xrad_surface_info si;
-        xrad_scene_get_surface(scene, rows[k].surface, &si, &err);
-        /* The sample's parameters (s, t) = (i, j) / (n - 1) on the corners
-         * as drawn: bilinear on a quad, collapsed to the apex p2 on a
-         * triangle (xrad_surface_info). */
-        double s = si.nu > 1 ? (double)rows[k].i / (si.nu - 1) : 0.5;
-        double t = si.nv > 1 ? (double)rows[k].j / (si.nv - 1) : 0.5;
-        const double *p3 = si.triangle ? si.corners[2] : si.corners[3];
-        double x[3];
-        for (int c = 0; c < 3; c++)
-            x[c] = (1 - t) * ((1 - s) * si.corners[0][c] + s * si.corners[1][c]) +
-                   t * ((1 - s) * p3[c] + s * si.corners[2][c]);
         method_surface_label(scene, rows[k].surface, name, sizeof(name));
         fprintf(f, "\"%s\",%u,%u,%.6g,%.6g,%.6g,%.7g,%.7g,%.7g\n", name, rows[k].i, rows[k].j,
-                x[0], x[1], x[2], rows[k].a, rows[k].b, rows[k].rel);
+                rows[k].x[0], rows[k].x[1], rows[k].x[2], rows[k].a, rows[k].b, rows[k].rel);
     }
     int rc = 0;
     if (fclose(f)) {
