@@ -60,7 +60,6 @@ static xrad_solver *solver_at(xrad_context *ctx, const xrad_scene *scene, xrad_m
     return solver_with(ctx, scene, m, t, 0);
 }
 
-
 /* A 1 m room with a ceiling light and a box sliding 0.3 m along x in 1 s
  * (as tests/solvers/test_frames.c): its shadow moves far, so a solution
  * that did not follow the box is far from the fresh one. Two variants: a
@@ -457,9 +456,10 @@ int main(int argc, char **argv)
         /* 45 degrees of the box's turn: the largest change of a square box.
          * Under the sanitizers (XRAD_TEST_SMALL, tools/sanitize.sh) the two
          * thesis scenes are left out: their cases run the code the small
-         * scenes run, on 10,000 elements, and took four fifths of this
-         * test's 10 minutes there; the symmetry is then checked on
-         * cornell-lowq, the same box turning in fewer elements. */
+         * scenes run, on 10,000 elements (without them a method's test
+         * took 47 s on this machine, with them 160-290 s, and 9-10 minutes
+         * under ASan); the symmetry is then checked on cornell-lowq, the
+         * same box turning in fewer elements. */
         if (!small) {
             move_test(ctx, "scenes/cornell-large.json", m, 0, 2.25, false);
             move_test(ctx, "scenes/cornell-small.json", m, 0, 2.25, false);
