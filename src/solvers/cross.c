@@ -46,8 +46,10 @@
  * test_extremes.c). Here the progressive iterations solve C alone, and M
  * enters only as the source X of step 5, replaced whole at every
  * redistribution: the solution is always that of C with the source of the
- * pose in hand, and nothing adds up (the same slide stays periodic, 0.97 to
- * 0.985 of the bound, to frame 10,000).
+ * pose in hand, and nothing of M adds up (the same slide stays within the
+ * bound to frame 10,000; what the iterations shot of earlier poses' signed
+ * changes does wander, 0.943-0.977 of the bound at one pose, README
+ * "Shooter subdivision").
  *
  * What that asks of step 5: every shadow M casts is in X, none in the
  * shots' hemicubes. The cross projection cannot resolve a light smaller

@@ -654,9 +654,12 @@ static void test_through_wall(xrad_context *ctx)
  * fixed patches of every shot since the solve, so what a frame removes is
  * texel for texel what was shot. Cross: every redistribution replaces what
  * the last one gave C, and the progressive iterations shoot C alone
- * (src/solvers/cross.c), so nothing can add up; when they shot with the
- * box in their hemicubes, the power rose past the bound (1.11 times it
- * after 10,000 frames). */
+ * (src/solvers/cross.c), so nothing of M can add up; when they shot with
+ * the box in their hemicubes, the power rose past the bound (1.11 times it
+ * after 10,000 frames). What the iterations shot of earlier poses' changes
+ * still wanders: XRAD_TEST_VERBOSE=1 XRAD_LONG_EVERY=500 prints the power
+ * at every 500th frame, one pose, 0.943-0.977 of the bound (README
+ * "Shooter subdivision"). */
 static void test_many_frames(xrad_context *ctx, xrad_method method)
 {
     /* A coarse room and a box of 6 patches, so that 10,000 frames take
