@@ -75,11 +75,12 @@ vec2 param_range(uint i0, uint i1, uint n)
 // linear rule at 8, 3-5% with the square root at 12 (a shot costs its
 // patches' hemicubes and one reconstruct over every element per patch, so
 // the default stays at 8; linear below a share of 1% saved only 16% of
-// the shots for 3 points of surface error). Cross's progressive iterations
-// keep the linear rule (pc.linear_rule): they shoot the signed changes a
+// the shots for 3 points of surface error). Cross's iterations after a
+// frame's redistribution keep the linear rule (pc.linear_rule; its first
+// solve's rounds do not, cross.c): they shoot the signed changes a
 // pose brings, and with the square root what the solution held at one pose
 // over 10,000 frames of a sliding box wandered past the bound (README
-// "Shooter subdivision"; 0.943-0.977 of it with the linear rule).
+// "Shooter subdivision").
 uvec2 patch_counts(gpu_surface sf, float power, float max_power)
 {
     if (sf.patches_s != 0u && sf.patches_s * sf.patches_t <= pc.max_shooters)
@@ -167,9 +168,14 @@ gpu_shooter make_shooter(uint s, uint kx, uint ky, uint k, uint slot, uint first
     }
     vec2 rs = param_range(i0, i1, sf.nu), rt = param_range(j0, j1, sf.nv);
     // A fixed patch turns as patch_rotation() in hemicube_geometry.c
-    // does, so that every pass shooting it sees the same texels.
+    // does, so that every pass shooting it sees the same texels. The
+    // linear rule's shots (cross's iterations of signed changes) turn by
+    // the patch's place on its surface, not by the shot's number (README
+    // "Shooter subdivision" has what that did to 10,000 frames).
     uint key = sf.patches_s != 0u ? pc.seed * 0x9e3779b9u + 0x7f4a7c15u + sf.patch_first + k
-                                  : pc.seed * 0x9e3779b9u + s_first_patch + slot;
+               : pc.linear_rule != 0u
+                   ? pc.seed * 0x9e3779b9u + lowbias32(((s * 17u + kx) * 17u + ky) * 257u + k)
+                   : pc.seed * 0x9e3779b9u + s_first_patch + slot;
     float angle = float(lowbias32(key)) * (TWO_PI / 4294967296.0);
     gpu_shooter sh;
     vec3 centre = bilinear(sf, 0.5 * (rs.x + rs.y), 0.5 * (rt.x + rt.y));

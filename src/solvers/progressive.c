@@ -57,6 +57,7 @@ struct progressive {
     uint32_t max_shooters;
     bool static_only;
     bool redistributed; /* PROGRESSIVE_REDISTRIBUTED */
+    bool square_root;   /* progressive_set_square_root_rule */
     select_params select_params;
     reconstruct_params reconstruct_params;
     uint32_t recorded_index_count; /* the host count the last shot's hemicubes drew */
@@ -334,7 +335,7 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
      * restart itself is C's plain solve, with the square root's finer
      * patches (cornell-box's ceiling 1.045 of the CPU reference with the
      * linear rule). */
-    p->select_params.linear_rule = p->static_only && !restart;
+    p->select_params.linear_rule = p->static_only && !restart && !p->square_root;
     /* A solve from B = E (and plain progressive refinement) stops also on
      * all that is unshot, and shoots in groups (select.comp says why);
      * the iterations after a redistribution shoot the signed changes of a
@@ -422,6 +423,11 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
 }
 
 const solver_ops progressive_ops = {create, solve, destroy, NULL};
+
+void progressive_set_square_root_rule(progressive *p, bool square_root)
+{
+    p->square_root = square_root;
+}
 
 void progressive_draw_counts(const progressive *p, uint32_t *host, uint32_t *command)
 {

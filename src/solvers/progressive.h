@@ -50,6 +50,13 @@ void progressive_destroy(struct xrad_solver *s, progressive **p);
 xrad_status progressive_run(struct xrad_solver *s, progressive *p, bool restart,
                             uint32_t max_shots, xrad_error *err);
 
+/* Where a static_only engine's continuations (restart false) take their
+ * patch counts from: the linear rule (the default: a dynamic method's
+ * frames, select.comp says why) or, with square_root, the square root of
+ * the power share, as a restart does (cross's first solve: its rounds
+ * settle one pose and repeat no frame). */
+void progressive_set_square_root_rule(progressive *p, bool square_root);
+
 /* Tests, after a completed progressive_run: the index count the last
  * shot's ID hemicubes were recorded with on the host (what the multiview
  * path draws) and the one the select pass wrote into their indirect

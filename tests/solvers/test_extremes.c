@@ -658,7 +658,7 @@ static void test_through_wall(xrad_context *ctx)
  * the box in their hemicubes, the power rose past the bound (1.11 times it
  * after 10,000 frames). What the iterations shot of earlier poses' changes
  * still wanders: XRAD_TEST_VERBOSE=1 XRAD_LONG_EVERY=500 prints the power
- * at every 500th frame, one pose, 0.943-0.977 of the bound (README
+ * at every 500th frame, one pose, 0.944-0.976 of the bound (README
  * "Shooter subdivision"). */
 static void test_many_frames(xrad_context *ctx, xrad_method method)
 {
