@@ -387,8 +387,7 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
         else if (took < 1.0)
             batch = 2 * batch < s->desc.batch ? 2 * batch : s->desc.batch;
         selected = status->selections - first;
-        done = status->converged || selected >= limit ||
-               status->selections >= s->desc.max_iterations;
+        done = status->converged || selected >= limit;
         solver_progress(s, "progressive", done ? 1 : progress(p, status));
     }
     s->stats.iterations += status->selections - first;
