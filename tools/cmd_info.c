@@ -29,7 +29,12 @@ static int gpu_memory(const xrad_scene *scene, const char *method, const char *d
 {
     xrad_error err = {0};
     xrad_context *ctx = NULL;
-    if (cli_context_create((xrad_context_desc){.device = device}, &ctx, &err)) {
+    xrad_status cs = cli_context_create((xrad_context_desc){.device = device}, &ctx, &err);
+    /* No device is an answer (the host figures stand); bad input, such as
+     * an XRAD_HEMICUBE_PATH that names no path, is an error. */
+    if (cs == XRAD_ERROR_INPUT)
+        return cli_report(&err);
+    if (cs) {
         printf("GPU memory  unavailable: %s\n", err.message);
         return 0;
     }

@@ -272,6 +272,11 @@ expect_text "$tmp/err" "quality.hemicube_res" "the scene field is named"
 expect 0 "info with GPU memory" -- "$xrad" info "$tmp/tiny.json" --method cross
 expect_text "$tmp/out" "redistribution" "memory by category"
 expect_text "$tmp/out" "render targets" "memory by category"
+# A device or hemicube path that names nothing is an error, not a missing GPU.
+expect 1 "info, bad XRAD_HEMICUBE_PATH" -- env XRAD_HEMICUBE_PATH=sideways "$xrad" info "$tmp/tiny.json"
+expect_text "$tmp/err" "XRAD_HEMICUBE_PATH: 'sideways'" "the variable is named"
+expect 1 "info, no such device" -- "$xrad" info "$tmp/tiny.json" --device no-such-device
+expect_text "$tmp/err" "no-such-device" "the device asked for is named"
 # cross says how many patches it made: cornell-lowq's box at cross_density
 # 3 has 2 x 2 blocks on each of its 6 faces (sides under 1/3 m: 2 samples).
 expect 0 "info, cross patches" -- "$xrad" info "$root/scenes/cornell-lowq.json" --method cross
