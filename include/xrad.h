@@ -610,7 +610,9 @@ typedef struct xrad_solver_desc {
                                 (dynamic shooter subdivision, thesis 4.3.3); default 8 */
     double subdivide_ratio;  /* progressive: disk form factor subdivided when shooter area /
                                 distance^2 exceeds this (thesis 4.3.3); default 0.01 */
-    uint32_t max_iterations; /* hard stop: shots (progressive) or bounces (gather); default 100000 */
+    /* Hard stop of one call: shots (progressive; a frame's iterations
+     * where frame_shots is 0) or bounces (gather); default 100000. */
+    uint32_t max_iterations;
     uint32_t seed;           /* hemicube rotations (thesis 4.2); default 0 */
     /* Dynamic methods (incremental, cross): after each redistribution,
      * progressive iterations continue until the threshold is met or
