@@ -94,8 +94,10 @@ int main(void)
     }
     /* The shots of a frame are its own: the progressive iterations once
      * stopped on the count since the solve, so that a solve that used up
-     * max_iterations (or a viewer past 100,000 shots in all, a few minutes
-     * of frames) left every later frame one batch of 4 shots, its
+     * max_iterations, or any solver past 100,000 selections in all
+     * (incremental on cornell-lowq selects 48 a frame: about 2,000 frames,
+     * a minute of xrad view at 30 fps; cross 3), left every later frame one
+     * batch of 4 shots, its
      * redistribution's unshot light never shot (a 0.999 furnace's ambient
      * term then read 8 times the power bound). FRAME_SHOTS of a box
      * sliding 0.03 m do not all come to nothing: the threshold is 1e-7. */
