@@ -97,10 +97,10 @@ int main(void)
      * max_iterations, or any solver past 100,000 selections in all
      * (incremental on cornell-lowq selects 48 a frame: about 2,000 frames,
      * a minute of xrad view at 30 fps; cross 3), left every later frame one
-     * batch of 4 shots, its
-     * redistribution's unshot light never shot (a 0.999 furnace's ambient
-     * term then read 8 times the power bound). FRAME_SHOTS of a box
-     * sliding 0.03 m do not all come to nothing: the threshold is 1e-7. */
+     * batch of 4 shots, its redistribution's unshot light never shot (a
+     * 0.999 furnace's ambient term then read 8 times the power bound).
+     * FRAME_SHOTS of a box sliding 0.03 m do not all come to nothing: the
+     * threshold is 1e-7. */
     enum { SOLVE_SHOTS = 12, FRAME_SHOTS = 24 };
     const xrad_method dynamic[] = {XRAD_METHOD_INCREMENTAL, XRAD_METHOD_CROSS};
     for (size_t k = 0; k < sizeof(dynamic) / sizeof(dynamic[0]); k++) {
