@@ -178,13 +178,17 @@ void gpu_cmd_destroy(struct xrad_context *ctx, gpu_cmd *c)
         /* Unchecked on purpose: this wait is the cleanup after a failure,
          * not an operation of its own; DEVICE_LOST also ends it (objects of
          * a lost device may be destroyed). */
-        VkResult r = vkWaitForFences(ctx->device, 1, &c->fence, VK_TRUE, ctx->wait_timeout_ns);
+        uint64_t limit = ctx->wait_timeout_ns;
+        if (atomic_load(&ctx->hung) && limit > GPU_HANG_GRACE_NS)
+            limit = GPU_HANG_GRACE_NS;
+        VkResult r = vkWaitForFences(ctx->device, 1, &c->fence, VK_TRUE, limit);
         if (r == VK_TIMEOUT) {
             atomic_store(&ctx->lost, true);
+            atomic_store(&ctx->hung, true);
             gpu_log(ctx, XRAD_LOG_ERROR,
                     "a GPU submission did not finish within %.0f s; its command buffer is left "
                     "to the context's destruction",
-                    (double)ctx->wait_timeout_ns * 1e-9);
+                    (double)limit * 1e-9);
             memset(c, 0, sizeof(*c));
             return;
         }

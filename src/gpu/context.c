@@ -420,11 +420,39 @@ void gpu_queue_unlock(struct xrad_context *ctx)
     pthread_mutex_unlock(&ctx->queue_lock);
 }
 
+bool gpu_context_drained(struct xrad_context *ctx, uint64_t timeout_ns)
+{
+    if (!ctx->timeline)
+        return false;
+    gpu_queue_lock(ctx);
+    uint64_t value = ctx->timeline_value;
+    gpu_queue_unlock(ctx);
+    VkSemaphoreWaitInfo info = {
+        .sType = VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO,
+        .semaphoreCount = 1,
+        .pSemaphores = &ctx->timeline,
+        .pValues = &value,
+    };
+    return vkWaitSemaphores(ctx->device, &info, timeout_ns) == VK_SUCCESS;
+}
+
 void xrad_context_destroy(xrad_context **pctx)
 {
     if (!pctx || !*pctx)
         return;
     struct xrad_context *ctx = *pctx;
+    /* A queue that hangs may never let its device go: lavapipe joins its
+     * queue thread in vkDestroyDevice, and freeing memory that pending
+     * work still uses is unsafe. So the whole context is left to process
+     * exit, and the caller gets control back (the failure was reported
+     * where the wait gave up). */
+    if (ctx->device && atomic_load(&ctx->hung) && !gpu_context_drained(ctx, GPU_HANG_GRACE_NS)) {
+        gpu_log(ctx, XRAD_LOG_ERROR,
+                "the GPU queue still has not finished after a hang: the context's device and "
+                "objects are left to process exit");
+        *pctx = NULL;
+        return;
+    }
     if (ctx->device) {
         /* After a loss or a hang the device may never go idle; its objects
          * may still be destroyed (Vulkan spec, "Lost Device"). An imported

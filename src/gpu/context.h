@@ -106,6 +106,11 @@ struct xrad_context {
      * later submissions refuse, and destroy does not wait on the device.
      * Atomic: the scheduler's worker sets it, the display thread reads it. */
     atomic_bool lost;
+    /* Set by a wait timeout alone (a hang, real or injected): the queue may
+     * never drain, so cleanup polls instead of waiting again, and destroy
+     * leaves the device to process exit while work is still pending
+     * (lavapipe joins its queue thread in vkDestroyDevice). */
+    atomic_bool hung;
 };
 
 /* Messages (warnings and errors) seen by every context of this process,
@@ -144,6 +149,14 @@ xrad_status gpu_context_finish(struct xrad_context *ctx, xrad_error *err);
 xrad_status gpu_thread_pool(struct xrad_context *ctx, VkCommandPool *out, xrad_error *err);
 
 /* XRAD_ERROR_SYSTEM naming `what` when the context was lost earlier. */
+/* After a hang (ctx->hung) the cleanup waits no longer than this: the
+ * work a wait gave up on has had the whole wait limit already. */
+#define GPU_HANG_GRACE_NS 5000000000ull
+
+/* Whether every submission so far has ended, waiting at most `timeout_ns`
+ * (false without a timeline semaphore to tell). */
+bool gpu_context_drained(struct xrad_context *ctx, uint64_t timeout_ns);
+
 xrad_status gpu_context_check_alive(struct xrad_context *ctx, const char *what,
                                     xrad_error *err);
 

@@ -169,6 +169,8 @@ xrad_status gpu_vk_report(struct xrad_context *ctx, xrad_error *err, const char 
     /* xrad waits only with finite timeouts, so a timeout means a hang. */
     if (ctx && (result == VK_ERROR_DEVICE_LOST || result == VK_TIMEOUT))
         atomic_store(&ctx->lost, true);
+    if (ctx && result == VK_TIMEOUT)
+        atomic_store(&ctx->hung, true);
     char name[64];
     return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: %s%s (%s:%d)%s",
                      gpu_call_name(call_text, name, sizeof(name)), gpu_result_name(result),

@@ -8,6 +8,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "gpu/cmd.h"
 #include "gpu_test.h"
 #include "scene/scene.h"
 
@@ -113,6 +114,80 @@ static void test_device_lost(const char *function, VkResult result, const char *
     gpu_test_end(&ctx);
 }
 
+/* A submission that waits on a semaphore nobody signals: the queue stops as
+ * a hung one does (a real hang, not an injected result). */
+static bool submit_stuck(xrad_context *ctx, VkSemaphore *never, gpu_cmd *c, xrad_error *err)
+{
+    ctx->wait_timeout_ns = 1000000000ull; /* 1 s: the test need not wait 60 */
+    if (gpu_timeline_create(ctx, never, err) || gpu_cmd_begin(ctx, c, err))
+        return false;
+    gpu_sync sync = {
+        .wait = *never, .wait_value = 1, .wait_stage = VK_PIPELINE_STAGE_ALL_COMMANDS_BIT};
+    return gpu_cmd_submit_sync(ctx, c, &sync, err) == XRAD_OK;
+}
+
+/* A real hang: the wait gives up with the context's limit and says so, the
+ * context refuses later work and knows its queue has not drained; once the
+ * queue moves again, everything is freed cleanly. Then a hang that never
+ * ends: xrad_context_destroy returns (lavapipe's vkDestroyDevice would
+ * block on the stuck queue forever: the CI run of stop 36 was killed so),
+ * leaving the context to process exit. */
+static void test_real_hang(void)
+{
+    xrad_context *ctx = gpu_test_context();
+    if (!ctx)
+        return;
+    VkSemaphore never = VK_NULL_HANDLE;
+    gpu_cmd c = {0};
+    xrad_error err = {0};
+    bool submitted = submit_stuck(ctx, &never, &c, &err);
+    CHECK(submitted, "stuck submission: %s", err.message);
+    if (submitted) {
+        xrad_status s = gpu_cmd_wait(ctx, &c, &err);
+        CHECK(s == XRAD_ERROR_SYSTEM && strstr(err.message, "VK_TIMEOUT") &&
+                  strstr(err.message, "did not finish"),
+              "a hung wait: status %d, %s", (int)s, err.message);
+        CHECK(atomic_load(&ctx->hung) && !gpu_context_drained(ctx, 0),
+              "a hung queue counts as drained");
+        memset(&err, 0, sizeof(err));
+        CHECK(render(ctx, &err) == XRAD_ERROR_SYSTEM && strstr(err.message, "lost earlier"),
+              "render on a hung context: %s", err.message);
+        VkSemaphoreSignalInfo go = {
+            .sType = VK_STRUCTURE_TYPE_SEMAPHORE_SIGNAL_INFO, .semaphore = never, .value = 1};
+        CHECK(vkSignalSemaphore(ctx->device, &go) == VK_SUCCESS, "vkSignalSemaphore failed");
+    }
+    gpu_cmd_destroy(ctx, &c); /* waits (at most the grace) for the work now running */
+    CHECK(gpu_context_drained(ctx, GPU_HANG_GRACE_NS), "the queue did not drain once released");
+    vkDestroySemaphore(ctx->device, never, NULL);
+    check_clean(ctx, "after a hang");
+    gpu_test_end(&ctx);
+
+    /* The hang that does not end. The context stays reachable from here
+     * (LeakSanitizer counts it as still reachable, not as a leak), and the
+     * queue is released after the destroy so that its thread can end. */
+    static xrad_context *left;
+    left = gpu_test_context();
+    if (!left)
+        return;
+    memset(&err, 0, sizeof(err));
+    if (!submit_stuck(left, &never, &c, &err)) {
+        CHECK(0, "stuck submission: %s", err.message);
+        return;
+    }
+    CHECK(gpu_cmd_wait(left, &c, &err) == XRAD_ERROR_SYSTEM, "the second hang was not reported");
+    gpu_cmd_destroy(left, &c); /* gives up after the grace */
+    xrad_context *doomed = left;
+    VkDevice device = left->device;
+    xrad_context_destroy(&doomed);
+    CHECK(doomed == NULL, "xrad_context_destroy kept the pointer");
+    VkSemaphoreSignalInfo go = {
+        .sType = VK_STRUCTURE_TYPE_SEMAPHORE_SIGNAL_INFO, .semaphore = never, .value = 1};
+    CHECK(vkSignalSemaphore(device, &go) == VK_SUCCESS, "vkSignalSemaphore failed");
+    vkDeviceWaitIdle(device);
+    fprintf(stderr, "a hung queue: reported, refused, freed once it moved; destroy returned "
+                    "while it was stuck\n");
+}
+
 /* The environment variable reaches the same hook. */
 static void test_env_rule(void)
 {
@@ -145,6 +220,7 @@ int main(void)
     test_device_lost("vkQueueSubmit", VK_ERROR_DEVICE_LOST, "device was lost");
     test_device_lost("vkWaitForFences", VK_ERROR_DEVICE_LOST, "device was lost");
     test_device_lost("vkWaitForFences", VK_TIMEOUT, "did not finish");
+    test_real_hang();
     test_env_rule();
     xrad_atlas_destroy(&atlas);
     xrad_scene_destroy(&scene);
