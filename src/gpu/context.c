@@ -446,13 +446,18 @@ void xrad_context_destroy(xrad_context **pctx)
      * work still uses is unsafe. So the whole context is left to process
      * exit, and the caller gets control back (the failure was reported
      * where the wait gave up). */
+    *pctx = NULL;
     if (ctx->device && atomic_load(&ctx->hung) && !gpu_context_drained(ctx, GPU_HANG_GRACE_NS)) {
         gpu_log(ctx, XRAD_LOG_ERROR,
                 "the GPU queue still has not finished after a hang: the context's device and "
                 "objects are left to process exit");
-        *pctx = NULL;
         return;
     }
+    gpu_context_free(ctx);
+}
+
+void gpu_context_free(struct xrad_context *ctx)
+{
     if (ctx->device) {
         /* After a loss or a hang the device may never go idle; its objects
          * may still be destroyed (Vulkan spec, "Lost Device"). An imported
@@ -482,7 +487,6 @@ void xrad_context_destroy(xrad_context **pctx)
         vkDestroyInstance(ctx->instance, NULL);
     pthread_mutex_destroy(&ctx->queue_lock);
     free(ctx);
-    *pctx = NULL;
 }
 
 void gpu_log(const struct xrad_context *ctx, xrad_log_level level, const char *fmt, ...)

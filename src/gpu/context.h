@@ -157,6 +157,11 @@ xrad_status gpu_thread_pool(struct xrad_context *ctx, VkCommandPool *out, xrad_e
  * (false without a timeline semaphore to tell). */
 bool gpu_context_drained(struct xrad_context *ctx, uint64_t timeout_ns);
 
+/* What xrad_context_destroy does once the queue has drained: waits for it
+ * (unless lost) and frees everything. The test of a hang that outlives
+ * xrad_context_destroy frees with it what destroy left. */
+void gpu_context_free(struct xrad_context *ctx);
+
 xrad_status gpu_context_check_alive(struct xrad_context *ctx, const char *what,
                                     xrad_error *err);
 
