@@ -538,6 +538,11 @@ XRAD_API xrad_status xrad_context_desc_from_env(xrad_context_desc *desc, xrad_er
 
 XRAD_API xrad_status xrad_context_create(const xrad_context_desc *desc, xrad_context **out,
                                          xrad_error *err);
+/* Frees the context and sets *ctx to NULL. Every GPU wait is bounded (60 s);
+ * one that runs out reports the GPU as hung (XRAD_ERROR_SYSTEM), and the
+ * context then refuses all work. If the queue still has not finished 5 s
+ * later, destroy leaves the device and its objects to process exit rather
+ * than block on them (a driver may join its stuck queue thread). */
 XRAD_API void xrad_context_destroy(xrad_context **ctx);
 
 /* Validation messages of severity warning or error seen so far. */

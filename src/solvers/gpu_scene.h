@@ -89,10 +89,9 @@ gpu_image_desc gpu_scene_atlas_desc(const xrad_scene *scene);
 
 /* gpu_scene_create flags. ENCLOSE_MOVING: at every pose, the static
  * elements that moving objects close in (scene_find_enclosed_dynamic) are
- * buried under a moving cover (2 in `buried`, GPU_ELEMENT_BURIED_M). For
- * the solves that see M and take BURIED_M out (progressive, gather,
- * incremental's first solve); cross's draws C alone, and its frames would
- * pay the rays for nothing. */
+ * buried under a moving cover (2 in `buried`, GPU_ELEMENT_BURIED_M): the
+ * solves that see M take them out (progressive, gather, incremental's
+ * first solve), cross's reconstruction takes their light away. */
 #define GPU_SCENE_ENCLOSE_MOVING 1u
 
 /* Uploads the scene posed at `time`, with B = Bu = E. */

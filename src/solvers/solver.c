@@ -77,11 +77,12 @@ xrad_status xrad_solver_create(xrad_context *ctx, const xrad_scene *scene,
     for (size_t i = 0; i < sizeof(methods) / sizeof(methods[0]); i++)
         if (methods[i].ops && methods[i].method == d.method)
             s->ops = methods[i].ops;
-    /* Progressive and gather solve each pose afresh, incremental's first
-     * solve too (progressive_run's restart): what a moving object closes
-     * in is buried at that pose (gpu_scene.h; 1-5 ms a pose on one core
-     * for the shipped scenes). Cross's restart draws C alone. */
-    uint32_t scene_flags = d.method == XRAD_METHOD_CROSS ? 0u : GPU_SCENE_ENCLOSE_MOVING;
+    /* What a moving object closes in is buried at every pose (gpu_scene.h;
+     * 1-5 ms a pose on one core for the shipped scenes): progressive and
+     * gather solve each pose afresh, incremental's first solve too
+     * (progressive_run's restart), and cross's reconstruction takes the
+     * light of C's elements so closed in (cross_reconstruct.comp). */
+    uint32_t scene_flags = GPU_SCENE_ENCLOSE_MOVING;
     s->reporting = true;
     if ((st = gpu_scene_create(ctx, scene, d.time, scene_flags, &s->gs, err)) ||
         (st = gpu_timer_create(ctx, 256, &s->timer, err)) || (st = s->ops->create(s, err))) {
