@@ -107,9 +107,9 @@ struct xrad_context {
      * Atomic: the scheduler's worker sets it, the display thread reads it. */
     atomic_bool lost;
     /* Set by a wait timeout alone (a hang, real or injected): the queue may
-     * never drain, so cleanup polls instead of waiting again, and destroy
-     * leaves the device to process exit while work is still pending
-     * (lavapipe joins its queue thread in vkDestroyDevice). */
+     * never drain, so a cleanup wait takes at most GPU_HANG_GRACE_NS, and
+     * destroy leaves the device to process exit while work is still
+     * pending (lavapipe joins its queue thread in vkDestroyDevice). */
     atomic_bool hung;
 };
 
@@ -148,7 +148,6 @@ xrad_status gpu_context_finish(struct xrad_context *ctx, xrad_error *err);
  * the context. */
 xrad_status gpu_thread_pool(struct xrad_context *ctx, VkCommandPool *out, xrad_error *err);
 
-/* XRAD_ERROR_SYSTEM naming `what` when the context was lost earlier. */
 /* After a hang (ctx->hung) the cleanup waits no longer than this: the
  * work a wait gave up on has had the whole wait limit already. */
 #define GPU_HANG_GRACE_NS 5000000000ull
@@ -162,6 +161,7 @@ bool gpu_context_drained(struct xrad_context *ctx, uint64_t timeout_ns);
  * xrad_context_destroy frees with it what destroy left. */
 void gpu_context_free(struct xrad_context *ctx);
 
+/* XRAD_ERROR_SYSTEM naming `what` when the context was lost earlier. */
 xrad_status gpu_context_check_alive(struct xrad_context *ctx, const char *what,
                                     xrad_error *err);
 
