@@ -152,6 +152,9 @@ static void test_real_hang(void)
         memset(&err, 0, sizeof(err));
         CHECK(render(ctx, &err) == XRAD_ERROR_SYSTEM && strstr(err.message, "lost earlier"),
               "render on a hung context: %s", err.message);
+        /* The cleanup below may take the whole grace (5 s), not the test's
+         * 1 s: a loaded machine must not turn it into a leak. */
+        ctx->wait_timeout_ns = 60000000000ull;
         VkSemaphoreSignalInfo go = {
             .sType = VK_STRUCTURE_TYPE_SEMAPHORE_SIGNAL_INFO, .semaphore = never, .value = 1};
         CHECK(vkSignalSemaphore(ctx->device, &go) == VK_SUCCESS, "vkSignalSemaphore failed");
@@ -183,6 +186,7 @@ static void test_real_hang(void)
     CHECK(doomed == NULL, "xrad_context_destroy kept the pointer");
     /* Release the queue, then free what destroy left (the process would
      * exit here; the test checks that nothing else was leaked). */
+    left->wait_timeout_ns = 60000000000ull; /* as above: the whole grace */
     VkSemaphoreSignalInfo go = {
         .sType = VK_STRUCTURE_TYPE_SEMAPHORE_SIGNAL_INFO, .semaphore = never, .value = 1};
     CHECK(vkSignalSemaphore(left->device, &go) == VK_SUCCESS, "vkSignalSemaphore failed");
