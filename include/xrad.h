@@ -693,6 +693,13 @@ typedef struct xrad_solver_desc {
      * mean of what the patch hides rather than a few texels of it; levels
      * halve back_res while it stays even. OFF: level 0 alone. */
     uint32_t back_mips;
+    /* cross: XRAD_CROSS_REGATHER_ON gathers M's light again after each
+     * frame's progressive iterations, from C as they left it, so that a
+     * moving object shows its surroundings of this frame rather than the
+     * last (one more gather hemicube per patch and M's passes; what M
+     * shoots to C is the redistribution's either way). OFF (default):
+     * M's light is gathered once per frame, before the iterations. */
+    uint32_t cross_regather;
     /* Progress of the long parts, on the calling thread: gather's direct
      * light (at create) and its bounces, progressive's shots (per batch;
      * fraction: how far the unshot power has come down, on a log scale,
@@ -722,6 +729,11 @@ enum {
 enum {
     XRAD_BACK_MIPS_OFF = 1,
     XRAD_BACK_MIPS_ON = 2,
+};
+
+enum {
+    XRAD_CROSS_REGATHER_OFF = 1,
+    XRAD_CROSS_REGATHER_ON = 2,
 };
 
 enum {

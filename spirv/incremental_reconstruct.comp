@@ -178,13 +178,13 @@ void receive(uint e)
     // reset() and takes nothing in this step.
     if (pc.mode == INCR_MODE_INCREMENT && (elements[e].flags & GPU_ELEMENT_BURIED_M) != 0u)
         return;
-    // Contact (gpu_element.flags) is not tested: the hemicubes alone
-    // decide here and in the progressive shots this pass removes again
-    // (reconstruct_params.redistributed). Skipping buried receivers in
-    // both, 10,000 frames of a sliding box lost 0.4% of the power per 100
-    // frames, steadily (an enclosed ceiling element above the lamp); an
-    // element of C that M covers must give back what it took while
-    // uncovered (-shot where the old hemicube saw it), not keep it.
+    // Otherwise contact (gpu_element.flags) is not tested: the hemicubes
+    // alone decide here and in the progressive shots this pass removes
+    // again (reconstruct_params.redistributed). Skipping buried receivers
+    // in both without the reset's retraction, 10,000 frames of a sliding
+    // box lost 0.4% of the power per 100 frames, steadily (an enclosed
+    // ceiling element above the lamp): an element of C that M covers must
+    // give back what it took while uncovered, not keep it.
     vec3 ne = elements[e].normal.xyz;
     uint ke = e - sr.first_element;
     vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);

@@ -518,13 +518,38 @@ static void record_reset(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     gpu_timer_end(s->timer, cmd);
 }
 
-/* Steps 2-3 at the pose in hand: the patches' ID, gather and back
- * hemicubes over the atlas (scaled by c->scale), the lights' ID hemicubes
- * with M, R_g(C, M). The frames are written. */
-static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
+/* R_g(C, M) (step 3's gather): the patches' gather hemicubes over the
+ * atlas (scaled by c->scale), integrated, and the elements of M set to
+ * E + rho x the gathered light. */
+static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd)
 {
     const gpu_scene *gs = &s->gs;
     uint32_t n = gs->element_count, P = c->P;
+    full_barrier(cmd);
+    gpu_timer_begin(s->timer, cmd, "cross.gather");
+    hemicube_record(c->gather, cmd,
+                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
+                                     .index_count = gs->index_count,
+                                     .frames = &c->frames,
+                                     .first = frames_first(c, CROSS_FRAMES_GATHER), .count = P,
+                                     .atlas = &gs->atlas, .scale = (float)c->scale});
+    integrate_record(c->integrate, cmd,
+                     &(integrate_draw){.hemicubes = hemicube_image(c->gather)->view, .count = P,
+                                       .out = &c->gathered, .scale = (float)c->scale,
+                                       .moments = true, .moments_first = P});
+    compute_barrier(cmd);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n);
+    gpu_timer_end(s->timer, cmd);
+    s->stats.hemicubes += P;
+}
+
+/* Step 2 at the pose in hand, but for the gather (record_m): the patches'
+ * ID and back hemicubes (the back ones over the atlas, scaled by
+ * c->scale), the lights' ID hemicubes with M. The frames are written. */
+static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
+{
+    const gpu_scene *gs = &s->gs;
+    uint32_t P = c->P;
     full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.hemicube");
     hemicube_record(c->ids, cmd,
@@ -550,21 +575,7 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
         back_mips_record(c->mips, cmd, s->desc.back_res, P * HEMICUBE_FACES);
     }
     gpu_timer_end(s->timer, cmd);
-    gpu_timer_begin(s->timer, cmd, "cross.gather");
-    hemicube_record(c->gather, cmd,
-                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
-                                     .index_count = gs->index_count,
-                                     .frames = &c->frames,
-                                     .first = frames_first(c, CROSS_FRAMES_GATHER), .count = P,
-                                     .atlas = &gs->atlas, .scale = (float)c->scale});
-    integrate_record(c->integrate, cmd,
-                     &(integrate_draw){.hemicubes = hemicube_image(c->gather)->view, .count = P,
-                                       .out = &c->gathered, .scale = (float)c->scale,
-                                       .moments = true, .moments_first = P});
-    compute_barrier(cmd);
-    cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n);
-    gpu_timer_end(s->timer, cmd);
-    s->stats.hemicubes += 3 * P + c->reach_count;
+    s->stats.hemicubes += 2 * P + c->reach_count;
 }
 
 /* Phase `phase` of the cross reconstruct pass for elements [first, first +
@@ -602,6 +613,23 @@ static void record_reconstruct(xrad_solver *s, cross *c, VkCommandBuffer cmd, ui
                                uint32_t first, uint32_t count)
 {
     record_phase(s, c, cmd, phase, first, count, "cross.reconstruct");
+}
+
+/* Step 3 and 4 for M: R_g(C, M) from the gather hemicubes over the atlas
+ * that record_reset wrote, the lights' direct light through their ID
+ * hemicubes as record_hemicubes drew them, R_p(M, M), and the patches'
+ * totals. */
+static void record_m(xrad_solver *s, cross *c, VkCommandBuffer cmd)
+{
+    uint32_t n = s->gs.element_count;
+    record_gather(s, c, cmd);
+    if (c->reach_count)
+        record_reconstruct(s, c, cmd, CROSS_RECONSTRUCT_M_DIRECT, 0, n);
+    full_barrier(cmd);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, c->P, n);
+    record_reconstruct(s, c, cmd, CROSS_RECONSTRUCT_M, 0, n);
+    full_barrier(cmd);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, c->P, n);
 }
 
 /* Step 5 for elements [first, first + count): the pairs that see each
@@ -666,13 +694,7 @@ static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error
         gpu_timer_start(s->timer, cmd.cmd);
     }
     record_hemicubes(s, c, cmd.cmd);
-    if (c->reach_count)
-        record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_M_DIRECT, 0, n);
-    full_barrier(cmd.cmd);
-    cross_update_record(c->update, cmd.cmd, CROSS_UPDATE_TOTAL, c->P, n);
-    record_reconstruct(s, c, cmd.cmd, CROSS_RECONSTRUCT_M, 0, n);
-    full_barrier(cmd.cmd);
-    cross_update_record(c->update, cmd.cmd, CROSS_UPDATE_TOTAL, c->P, n);
+    record_m(s, c, cmd.cmd);
     for (uint32_t first = 0; first < n;) {
         uint32_t count = slice && slice < n - first ? slice : n - first;
         if (slice) {
@@ -734,6 +756,27 @@ static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *
     return record_run(s, c, false, err);
 }
 
+/* M gathers again, at the same pose, from C as the frame's progressive
+ * iterations left it (steps 1, 3 and 4; the ID hemicubes and the lights'
+ * are the redistribution's). What M shoots to C stays the redistribution's
+ * until the next one replaces it; this only brings M's own light up to
+ * the frame: gathered before the frame changed C, a moving box's sides
+ * showed the floor as it was a frame earlier (room 1's sliding box's -x
+ * side at 0.955 of the CPU reference with 33 ms frames, 0.844 with 100 ms
+ * ones). */
+static xrad_status regather_m(xrad_solver *s, cross *c, xrad_error *err)
+{
+    *(uint32_t *)c->peak.alloc.mapped = 0;
+    gpu_cmd cmd;
+    xrad_status st = gpu_cmd_begin(s->ctx, &cmd, err);
+    if (st)
+        return st;
+    gpu_timer_start(s->timer, cmd.cmd);
+    record_reset(s, c, cmd.cmd);
+    record_m(s, c, cmd.cmd);
+    return run(s, &cmd, err);
+}
+
 /* Nothing inserted yet: the start of a solve. */
 static xrad_status clear_inserted(xrad_solver *s, cross *c, xrad_error *err)
 {
@@ -779,6 +822,8 @@ static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
         return st;
     s->stats.redistribute_ms = solver_now_ms() - t0;
     st = progressive_run(s, c->prog, false, s->desc.frame_shots, err);
+    if (!st && c->P && s->desc.cross_regather == XRAD_CROSS_REGATHER_ON)
+        st = regather_m(s, c, err);
     solver_collect_times(s);
     return st;
 }
