@@ -518,6 +518,20 @@ static void record_reset(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     gpu_timer_end(s->timer, cmd);
 }
 
+/* The patches' radiosity hemicubes of frame table `table` over the atlas
+ * (scaled by c->scale), drawing the first `index_count` indices. */
+static hemicube_draw radiosity_draw(const xrad_solver *s, const cross *c, uint32_t table,
+                                    uint32_t index_count)
+{
+    return (hemicube_draw){.mesh = gpu_scene_hemicube_mesh(&s->gs),
+                           .index_count = index_count,
+                           .frames = &c->frames,
+                           .first = frames_first(c, table),
+                           .count = c->P,
+                           .atlas = &s->gs.atlas,
+                           .scale = (float)c->scale};
+}
+
 /* R_g(C, M) (step 3's gather): the patches' gather hemicubes over the
  * atlas (scaled by c->scale), integrated, and the elements of M set to
  * E + rho x the gathered light. */
@@ -527,12 +541,8 @@ static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     uint32_t n = gs->element_count, P = c->P;
     full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.gather");
-    hemicube_record(c->gather, cmd,
-                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
-                                     .index_count = gs->index_count,
-                                     .frames = &c->frames,
-                                     .first = frames_first(c, CROSS_FRAMES_GATHER), .count = P,
-                                     .atlas = &gs->atlas, .scale = (float)c->scale});
+    hemicube_draw d = radiosity_draw(s, c, CROSS_FRAMES_GATHER, gs->index_count);
+    hemicube_record(c->gather, cmd, &d);
     integrate_record(c->integrate, cmd,
                      &(integrate_draw){.hemicubes = hemicube_image(c->gather)->view, .count = P,
                                        .out = &c->gathered, .scale = (float)c->scale,
@@ -564,12 +574,8 @@ static void record_hemicubes(xrad_solver *s, cross *c, VkCommandBuffer cmd)
                                          .frames = &c->reach_frames, .count = c->reach_count});
     gpu_timer_end(s->timer, cmd);
     gpu_timer_begin(s->timer, cmd, "cross.back");
-    hemicube_record(c->back, cmd,
-                    &(hemicube_draw){.mesh = gpu_scene_hemicube_mesh(gs),
-                                     .index_count = gs->static_index_count,
-                                     .frames = &c->frames,
-                                     .first = frames_first(c, CROSS_FRAMES_BACK), .count = P,
-                                     .atlas = &gs->atlas, .scale = (float)c->scale});
+    hemicube_draw back = radiosity_draw(s, c, CROSS_FRAMES_BACK, gs->static_index_count);
+    hemicube_record(c->back, cmd, &back);
     if (c->mips) {
         full_barrier(cmd);
         back_mips_record(c->mips, cmd, s->desc.back_res, P * HEMICUBE_FACES);
@@ -674,19 +680,29 @@ static double peak_scale(const cross *c)
     return top > 0 && isfinite(top) ? HEMICUBE_PEAK / top : 1.0;
 }
 
+/* A command buffer begun with step 1 recorded, c->peak zeroed for the
+ * reset's measure. */
+static xrad_status begin_reset(xrad_solver *s, cross *c, gpu_cmd *cmd, xrad_error *err)
+{
+    *(uint32_t *)c->peak.alloc.mapped = 0;
+    xrad_status st = gpu_cmd_begin(s->ctx, cmd, err);
+    if (st)
+        return st;
+    gpu_timer_start(s->timer, cmd->cmd);
+    record_reset(s, c, cmd->cmd);
+    return XRAD_OK;
+}
+
 /* Steps 1-5, recorded and run at the pose the frames hold. With `measure`
  * the reset is a submission of its own and the hemicubes take the scale it
  * measured (one host wait more); without, c->scale as it is. */
 static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error *err)
 {
     uint32_t n = s->gs.element_count, slice = s->desc.slice_elements;
-    *(uint32_t *)c->peak.alloc.mapped = 0;
     gpu_cmd cmd;
-    xrad_status st = gpu_cmd_begin(s->ctx, &cmd, err);
+    xrad_status st = begin_reset(s, c, &cmd, err);
     if (st)
         return st;
-    gpu_timer_start(s->timer, cmd.cmd);
-    record_reset(s, c, cmd.cmd);
     if (measure) {
         if ((st = run(s, &cmd, err)) || (st = gpu_cmd_begin(s->ctx, &cmd, err)))
             return st;
@@ -766,13 +782,10 @@ static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *
  * ones). */
 static xrad_status regather_m(xrad_solver *s, cross *c, xrad_error *err)
 {
-    *(uint32_t *)c->peak.alloc.mapped = 0;
     gpu_cmd cmd;
-    xrad_status st = gpu_cmd_begin(s->ctx, &cmd, err);
+    xrad_status st = begin_reset(s, c, &cmd, err);
     if (st)
         return st;
-    gpu_timer_start(s->timer, cmd.cmd);
-    record_reset(s, c, cmd.cmd);
     record_m(s, c, cmd.cmd);
     return run(s, &cmd, err);
 }
