@@ -32,6 +32,8 @@
  *   6. Progressive iterations (solvers/progressive.h), desc.frame_shots,
  *      on C alone: their hemicubes do not draw M, and M shoots nothing in
  *      them (its light is in its patches' totals, step 5).
+ *   7. With cross_regather on: steps 1, 3 and 4 again (regather_m), so
+ *      that M's own light follows C as step 6 left it.
  *
  * Why step 6 leaves M out (thesis 3.3.4: "if the shot radiosity B^s
  * changes (for a patch in C) in between the redistribution iterations,
