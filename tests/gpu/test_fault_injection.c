@@ -126,12 +126,15 @@ static bool submit_stuck(xrad_context *ctx, VkSemaphore *never, gpu_cmd *c, xrad
     return gpu_cmd_submit_sync(ctx, c, &sync, err) == XRAD_OK;
 }
 
-/* Lets the stuck submission of submit_stuck run. */
-static void release(VkDevice device, VkSemaphore never)
+/* Lets the stuck submission of submit_stuck run. The cleanup after it may
+ * take the whole grace (5 s), not the test's 1 s wait limit: a loaded
+ * machine must not turn it into a leak. */
+static void release(xrad_context *ctx, VkSemaphore never)
 {
+    ctx->wait_timeout_ns = 60000000000ull;
     VkSemaphoreSignalInfo go = {
         .sType = VK_STRUCTURE_TYPE_SEMAPHORE_SIGNAL_INFO, .semaphore = never, .value = 1};
-    CHECK(vkSignalSemaphore(device, &go) == VK_SUCCESS, "vkSignalSemaphore failed");
+    CHECK(vkSignalSemaphore(ctx->device, &go) == VK_SUCCESS, "vkSignalSemaphore failed");
 }
 
 /* A real hang: the wait gives up with the context's limit and says so, the
@@ -160,10 +163,7 @@ static void test_real_hang(void)
         memset(&err, 0, sizeof(err));
         CHECK(render(ctx, &err) == XRAD_ERROR_SYSTEM && strstr(err.message, "lost earlier"),
               "render on a hung context: %s", err.message);
-        /* The cleanup below may take the whole grace (5 s), not the test's
-         * 1 s: a loaded machine must not turn it into a leak. */
-        ctx->wait_timeout_ns = 60000000000ull;
-        release(ctx->device, never);
+        release(ctx, never);
     }
     gpu_cmd_destroy(ctx, &c); /* waits (at most the grace) for the work now running */
     CHECK(gpu_context_drained(ctx, GPU_HANG_GRACE_NS), "the queue did not drain once released");
@@ -192,8 +192,7 @@ static void test_real_hang(void)
     CHECK(doomed == NULL, "xrad_context_destroy kept the pointer");
     /* Release the queue, then free what destroy left (the process would
      * exit here; the test checks that nothing else was leaked). */
-    left->wait_timeout_ns = 60000000000ull; /* as above: the whole grace */
-    release(left->device, never);
+    release(left, never);
     gpu_cmd_destroy(left, &stuck);
     vkDestroySemaphore(left->device, never, NULL);
     CHECK(xrad_context_validation_messages(left) == 0, "validation messages after a hang");
