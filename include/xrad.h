@@ -664,9 +664,13 @@ typedef struct xrad_solver_desc {
      * default 0 = OFF. */
     uint32_t ambient;
     /* progressive shots (all methods but gather): XRAD_CONSERVE_ON scales a
-     * shooter's form factors down where its receivers would take more than
-     * it sends (point form factors, nearest-texel visibility); default 0 =
-     * ON. */
+     * shooter's form factors so that its receivers take what it sends
+     * (point form factors and nearest-texel visibility take more or less).
+     * XRAD_CONSERVE_FAR (default 0) scales only the receivers that see the
+     * shooter by its centre's visibility: those that see it block by block
+     * (near it, or cut by its plane) keep their exact form factors, each
+     * block's visibility tested against every quad (README "Conservation
+     * of a shot"). */
     uint32_t conserve;
     /* progressive shots (all methods but gather) and gather's hemicubes:
      * XRAD_CULL_ON leaves out of each draw of hemicubes the clusters of
@@ -712,6 +716,7 @@ typedef struct xrad_solver_desc {
 enum {
     XRAD_CONSERVE_ON = 1,
     XRAD_CONSERVE_OFF = 2,
+    XRAD_CONSERVE_FAR = 3,
 };
 
 enum {

@@ -39,7 +39,15 @@
 // background, not a back face, which absorbs), and the form factors are
 // scaled so that the receivers take exactly A_s f_s; then the transfer
 // (MODE_APPLY). In a closed scene every shot then conserves the power it
-// shoots.
+// shoots. norm[] holds two factors per shooter: for the receivers that see
+// it by its centre's visibility, and for those that see it block by block
+// (near_cells). With conserve on they are one; with conserve far
+// (pc.conserve_far) the blocks keep their exact form factors (factor 1)
+// and the centre's receivers alone are scaled: a floor patch beside a box
+// on the floor gives far receivers its whole area where the box hides
+// part of it, and scaling that down took the same share from the box's
+// sides, which see it block by block (room 5's box sides 0.94 of the CPU
+// reference from the floor's light, 0.998 with far).
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_samplerless_texture_functions : require
 #include "radiosity.h"
@@ -55,6 +63,9 @@ layout(std430, binding = RECONSTRUCT_BINDING_SURFACES) readonly buffer Surfaces 
 layout(std430, binding = RECONSTRUCT_BINDING_BVH_NODES) readonly buffer BvhNodes { gpu_bvh_node bvh_nodes[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_BVH_ITEMS) readonly buffer BvhItems { uint bvh_items[]; };
 #define SHOOTING_BVH
+// Where the hemicubes draw C alone, M hides nothing from C's receivers:
+// its light and shadows are the cross projection's (cross.c).
+#define SHOOTING_UNDRAWN(i) (pc.static_only != 0u && surfaces[i].dynamic != 0u)
 #include "shooting.glsl"
 layout(std430, binding = RECONSTRUCT_BINDING_ELEMENTS) readonly buffer Elements { gpu_element elements[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_MATERIALS) readonly buffer Materials { gpu_material materials[]; };
@@ -167,9 +178,9 @@ vec2 front_fraction_share(gpu_shooter sh, uint lane)
 // reconstruct took 2.4-3.5 ms a shot whatever the shooter count, a third
 // of cross's frame (tools/gpu-check.sh). Each invocation sums a strided
 // share; the group adds the shares in shared memory.
-shared vec3 s_norm[RECONSTRUCT_GROUP];
+shared vec4 s_norm[RECONSTRUCT_GROUP];
 
-vec3 norm_reduce(vec3 v, uint lane)
+vec4 norm_reduce(vec4 v, uint lane)
 {
     s_norm[lane] = v;
     barrier();
@@ -192,6 +203,33 @@ vec3 norm_reduce(vec3 v, uint lane)
 // room at 2.9%, for 1.2-1.5 times the frame time. Everywhere (every
 // receiver block by block) cost 2-3 times and did no better.
 const float NEAR_BLOCKS_REACH2 = 4.0;
+
+// Whether a receiver at offset d from a patch of `area` is within the
+// blocks' reach, and whether x's tangent plane cuts patch sh (ce = -d . ne).
+bool near_within(vec3 d, float area)
+{
+    return pc.near_blocks != 0u && area * NEAR_BLOCKS_REACH2 > dot(d, d);
+}
+
+bool near_cut(vec3 x, vec3 ne, float ce, gpu_shooter sh)
+{
+    return pc.near_blocks != 0u && shooting_straddles(x, ne, ce, surfaces[sh.surface], sh);
+}
+
+// Whether receiver x (normal ne) sees shooter sh block by block.
+bool sees_blocks(gpu_shooter sh, vec3 x, vec3 ne)
+{
+    vec3 d = x - sh.pos_area.xyz;
+    return near_within(d, sh.pos_area.w) || near_cut(x, ne, -dot(d, ne), sh);
+}
+
+// The receiver point of element e.
+vec3 receiver_point(uint e)
+{
+    gpu_surface sr = surfaces[elements[e].surface];
+    uint ke = e - sr.first_element;
+    return shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+}
 
 // The form factor from receiver e (point x, normal ne, surface se) to
 // shooter k, 0 where it does not see the shooter.
@@ -224,9 +262,8 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // block by block (room 1's table sides at the floor 0.84 of the CPU
     // reference's without).
     // (pc.near_blocks is 0 where pc.redistributed is 1, reconstruct.c.)
-    bool within = pc.near_blocks != 0u && area * NEAR_BLOCKS_REACH2 > dot(d, d);
-    bool cut = pc.near_blocks != 0u && !within &&
-               shooting_straddles(x, ne, ce, surfaces[sh.surface], sh);
+    bool within = near_within(d, area);
+    bool cut = !within && near_cut(x, ne, ce, sh);
     bool blocks = within || cut;
     if (!shooting_faces(d, cs, ce, near || blocks))
         return 0.0;
@@ -243,7 +280,11 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
         // times dearer per element than an 80-face one's.
         uint ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u,
                                          cand);
-        if (cut && surfaces[se].mesh == 0u)
+        // With conserve far the blocks' form factors are not scaled, so
+        // nothing makes up for an occluder the texels miss: every quad is
+        // tested (room 5's table side 1.031 of the CPU reference with the
+        // texels' candidates alone, 1.015 with every quad).
+        if (surfaces[se].mesh == 0u && (cut || pc.conserve_far != 0u))
             ncand |= SHOOTING_EVERY_QUAD;
         return near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
     }
@@ -275,22 +316,38 @@ void main()
         // every frame.
         if (surfaces[shooters[k].surface].patches_s != 0u && pc.conserve_fixed == 0u) {
             if (lane == 0u)
-                norm[k] = 1.0;
+                norm[2u * k] = norm[2u * k + 1u] = 1.0;
             return;
         }
-        float taken = 0.0;
-        for (uint i = lane; i < pc.element_count; i += RECONSTRUCT_GROUP)
-            taken += elements[i].pos_area.w * ff[k * pc.element_count + i];
-        vec3 sums = norm_reduce(vec3(taken, front_fraction_share(shooters[k], lane)), lane);
+        gpu_shooter sh = shooters[k];
+        vec2 taken = vec2(0.0); // (centre's visibility, block by block)
+        for (uint i = lane; i < pc.element_count; i += RECONSTRUCT_GROUP) {
+            float a = elements[i].pos_area.w * ff[k * pc.element_count + i];
+            if (a == 0.0)
+                continue;
+            if (pc.conserve_far != 0u &&
+                sees_blocks(sh, receiver_point(i), elements[i].normal.xyz))
+                taken.y += a;
+            else
+                taken.x += a;
+        }
+        vec4 sums = norm_reduce(vec4(taken, front_fraction_share(sh, lane)), lane);
         if (lane != 0u)
             return;
-        taken = sums.x;
-        float sent = shooters[k].pos_area.w * (sums.z > 0.0 ? sums.y / sums.z : 0.0);
+        float sent = sh.pos_area.w * (sums.w > 0.0 ? sums.z / sums.w : 0.0);
         // A receiver set far from what the hemicube shows (a shooter whose
         // visible front faces all lie on its own surface's plane, say) is
         // left as it is rather than scaled by a large factor.
-        float q = taken > 0.0 ? sent / taken : 1.0;
-        norm[k] = q > 0.25 && q < 4.0 ? q : min(q, 1.0);
+        float all = sums.x + sums.y;
+        float q = all > 0.0 ? sent / all : 1.0;
+        q = q > 0.25 && q < 4.0 ? q : min(q, 1.0);
+        // conserve far: the blocks' receivers keep their exact factors and
+        // the rest make up the difference, unless that takes a factor
+        // outside the bounds above.
+        float qf = sums.x > 0.0 ? (sent - sums.y) / sums.x : 0.0;
+        bool far_only = pc.conserve_far != 0u && qf > 0.25 && qf < 4.0;
+        norm[2u * k] = far_only ? qf : q;
+        norm[2u * k + 1u] = far_only ? 1.0 : q;
         return;
     }
     uint e = gl_GlobalInvocationID.x;
@@ -320,8 +377,11 @@ void main()
             ff[k * pc.element_count + e] = form_factor(k, x, ne, se);
             continue;
         }
-        float f = pc.mode == RECONSTRUCT_MODE_APPLY ? ff[k * pc.element_count + e] * norm[k]
-                                                    : form_factor(k, x, ne, se);
+        float f = pc.mode != RECONSTRUCT_MODE_APPLY ? form_factor(k, x, ne, se)
+                  : ff[k * pc.element_count + e] *
+                        norm[2u * k + (pc.conserve_far != 0u && sees_blocks(shooters[k], x, ne)
+                                           ? 1u
+                                           : 0u)];
         gathered += shooters[k].radiosity.rgb * f;
     }
     if (pc.mode == RECONSTRUCT_MODE_FF)

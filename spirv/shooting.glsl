@@ -15,6 +15,14 @@
 #define SHOOTING_OCCLUDER(i, old) surfaces[i]
 #endif
 
+// Whether surface i is absent from what a pass's hemicubes drew, so that
+// the walk over every surface (shooting_bvh_hidden) must not count it as
+// an occluder either: cross's progressive iterations draw C alone
+// (reconstruct.comp defines it).
+#ifndef SHOOTING_UNDRAWN
+#define SHOOTING_UNDRAWN(i) false
+#endif
+
 const float SHOOTING_PI = 3.14159265358979323846;
 
 // Where the line from o through x meets surface `sf` (a planar convex
@@ -378,7 +386,7 @@ bool shooting_bvh_hidden(vec3 c, vec3 x, bool quads_only)
         for (uint k = n.first; k < n.first + n.count; k++) {
             uint m = bvh_items[k];
             shooting_walk_steps++;
-            if (quads_only && surfaces[m].mesh != 0u)
+            if ((quads_only && surfaces[m].mesh != 0u) || SHOOTING_UNDRAWN(m))
                 continue;
             if (shooting_blocks(SHOOTING_OCCLUDER(m, false), c, x))
                 return true;

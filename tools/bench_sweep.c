@@ -48,7 +48,7 @@ static const struct {
     {"back_msaa", "1,4", M_CROSS},
     {"radiosity_format", "fp16,fp32", M_GATHER | M_CROSS},
     {"ambient", "off,on", M_SHOOT},
-    {"conserve", "on,off", M_SHOOT},
+    {"conserve", "on,off,far", M_SHOOT},
     {"density_scale", "0.5,1,1.5", M_ALL},
 };
 

@@ -88,6 +88,7 @@ void reconstruct_record(reconstruct_pass *p, VkCommandBuffer cmd,
         .static_only = params->static_only ? 1u : 0u,
         .redistributed = params->redistributed ? 1u : 0u,
         .near_blocks = params->near_blocks && !params->redistributed ? 1u : 0u,
+        .conserve_far = params->conserve_far ? 1u : 0u,
     };
     gpu_kernel_dispatch_indirect(&p->kernel, cmd, 0, &push, status, dispatch_offset);
     if (!params->conserve)

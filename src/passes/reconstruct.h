@@ -60,6 +60,11 @@ typedef struct reconstruct_params {
     /* A shooter's receivers take at most its power (spirv/reconstruct.comp,
      * "Conservation"): three dispatches instead of one. */
     bool conserve;
+    /* With conserve: only the receivers that see a shooter by its centre
+     * are scaled; those that see it block by block keep their exact form
+     * factors, every quad a candidate occluder of each block
+     * (XRAD_CONSERVE_FAR). */
+    bool conserve_far;
     /* Fixed patches (surfaces with patches_s) are scaled too: the dynamic
      * methods' first solve, before any redistribution removes what they
      * shot. Afterwards removal and insertion must use the same factors. */

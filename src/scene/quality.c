@@ -90,9 +90,10 @@ static const setting settings[] = {
       XRAD_SETTING_CHOICE, XRAD_AMBIENT_OFF, 1, 2, "off|on", 0},
      SOLVER(ambient), RULE_NONE},
     {{"conserve",
-      "progressive shots: a shooter's receivers take at most its power (form factors scaled "
-      "down where they would take more)",
-      XRAD_SETTING_CHOICE, XRAD_CONSERVE_ON, 1, 2, "on|off", 0},
+      "progressive shots: a shooter's receivers take what it sends (form factors scaled "
+      "where they would take more or less); far: only those that see it by its centre, the "
+      "near blocks exact",
+      XRAD_SETTING_CHOICE, XRAD_CONSERVE_FAR, 1, 3, "on|off|far", 0},
      SOLVER(conserve), RULE_NONE},
     {{"cull",
       "leave out of a draw of hemicubes what none of them can see (clusters behind every "
@@ -308,8 +309,8 @@ static const struct {
                                                                      amb cons cull pairs mips regather density */
     {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 0, 8, 1, 1, 2, 1, 0, 1, 1, 1, 0.5}},
     {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 0, 16, 4, 1, 2, 1, 0, 1, 1, 1, 1}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 1, 0, 1, 1, 2, 1}},
-    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 1, 0, 1, 1, 2, 2}},
+    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 3, 0, 1, 1, 2, 1}},
+    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 3, 0, 1, 1, 2, 2}},
 };
 
 const char *xrad_quality_preset_list(void)

@@ -142,7 +142,7 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
                     ff_bytes <= ctx->props.limits.maxStorageBufferRange;
     if ((st = gpu_buffer_create(ctx, conserve ? ff_bytes : 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                 GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &p->ff, err)) ||
-        (st = gpu_buffer_create(ctx, (VkDeviceSize)p->max_shooters * sizeof(float),
+        (st = gpu_buffer_create(ctx, (VkDeviceSize)p->max_shooters * 2 * sizeof(float),
                                 VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_RADIOSITY, &p->norm, err)) ||
         (st = gpu_buffer_create(ctx,
@@ -210,6 +210,7 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
         .subdivide_ratio = s->desc.subdivide_ratio,
         .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
         .conserve = conserve,
+        .conserve_far = conserve && s->desc.conserve == XRAD_CONSERVE_FAR,
         .max_shooters = p->max_shooters,
         .static_only = static_only,
         .redistributed = (flags & PROGRESSIVE_REDISTRIBUTED) != 0,
