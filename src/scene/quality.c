@@ -93,7 +93,7 @@ static const setting settings[] = {
       "progressive shots: a shooter's receivers take what it sends (form factors scaled "
       "where they would take more or less); far: only those that see it by its centre, the "
       "near blocks exact",
-      XRAD_SETTING_CHOICE, XRAD_CONSERVE_FAR, 1, 3, "on|off|far", 0},
+      XRAD_SETTING_CHOICE, XRAD_CONSERVE_ON, 1, 3, "on|off|far", 0},
      SOLVER(conserve), RULE_NONE},
     {{"cull",
       "leave out of a draw of hemicubes what none of them can see (clusters behind every "
