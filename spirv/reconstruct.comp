@@ -42,7 +42,7 @@
 // shoots. norm[] holds two factors per shooter: for the receivers that see
 // it by its centre's visibility, and for those that see it block by block
 // (near_cells). With conserve on they are one; with conserve far
-// (pc.conserve_far) the blocks keep their exact form factors (factor 1)
+// (CONSERVE_FAR) the blocks keep their exact form factors (factor 1)
 // and the centre's receivers alone are scaled: a floor patch beside a box
 // on the floor gives far receivers its whole area where the box hides
 // part of it, and scaling that down took the same share from the box's
@@ -62,6 +62,16 @@ layout(push_constant) uniform Push { reconstruct_push pc; };
 layout(std430, binding = RECONSTRUCT_BINDING_SURFACES) readonly buffer Surfaces { gpu_surface surfaces[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_BVH_NODES) readonly buffer BvhNodes { gpu_bvh_node bvh_nodes[]; };
 layout(std430, binding = RECONSTRUCT_BINDING_BVH_ITEMS) readonly buffer BvhItems { uint bvh_items[]; };
+// conserve far is compiled in only with RECONSTRUCT_FAR (a second SPIR-V,
+// src/passes/reconstruct.c): llvmpipe runs both sides of a branch under a
+// mask, and with a push constant choosing it every shot paid for far's
+// block tests (the 0.999 furnace's 10,000 shots took 1149 s in a CI run
+// with conserve on, against under 377 s before).
+#ifdef RECONSTRUCT_FAR
+const bool CONSERVE_FAR = true;
+#else
+const bool CONSERVE_FAR = false;
+#endif
 #define SHOOTING_BVH
 // Where the hemicubes draw C alone, M hides nothing from C's receivers:
 // its light and shadows are the cross projection's (cross.c).
@@ -139,7 +149,7 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
             // back (cornell-small's plinth.front 1.071 of the CPU reference).
             // Visibility is the open cells' as one, from their middle: a
             // test per cell made cornell-small's solve three times as long.
-            if (area > 0.0 && partial && pc.conserve_far != 0u) {
+            if (area > 0.0 && partial && CONSERVE_FAR) {
                 vec3 c = vec3(0.0);
                 for (uint j = j0; j <= j1; j++)
                     for (uint i = i0; i <= i1; i++) {
@@ -318,7 +328,7 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
         // nothing makes up for an occluder the texels miss: every quad is
         // tested (room 5's table side 1.031 of the CPU reference with the
         // texels' candidates alone, 1.015 with every quad).
-        if (surfaces[se].mesh == 0u && (cut || pc.conserve_far != 0u))
+        if (surfaces[se].mesh == 0u && (cut || CONSERVE_FAR))
             ncand |= SHOOTING_EVERY_QUAD;
         return near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
     }
@@ -359,7 +369,7 @@ void main()
             float a = elements[i].pos_area.w * ff[k * pc.element_count + i];
             if (a == 0.0)
                 continue;
-            if (pc.conserve_far != 0u &&
+            if (CONSERVE_FAR &&
                 sees_blocks(sh, receiver_point(i), elements[i].normal.xyz))
                 taken.y += a;
             else
@@ -379,7 +389,7 @@ void main()
         // the rest make up the difference, unless that takes a factor
         // outside the bounds above.
         float qf = sums.x > 0.0 ? (sent - sums.y) / sums.x : 0.0;
-        bool far_only = pc.conserve_far != 0u && qf > 0.25 && qf < 4.0;
+        bool far_only = CONSERVE_FAR && qf > 0.25 && qf < 4.0;
         norm[2u * k] = far_only ? qf : q;
         norm[2u * k + 1u] = far_only ? 1.0 : q;
         return;
@@ -413,7 +423,7 @@ void main()
         }
         float f = pc.mode != RECONSTRUCT_MODE_APPLY ? form_factor(k, x, ne, se)
                   : ff[k * pc.element_count + e] *
-                        norm[2u * k + (pc.conserve_far != 0u && sees_blocks(shooters[k], x, ne)
+                        norm[2u * k + (CONSERVE_FAR && sees_blocks(shooters[k], x, ne)
                                            ? 1u
                                            : 0u)];
         gathered += shooters[k].radiosity.rgb * f;

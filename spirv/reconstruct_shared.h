@@ -42,7 +42,6 @@ struct reconstruct_push {
     uint static_only;      /* 1: the hemicubes draw C alone; M's elements receive nothing */
     uint redistributed;    /* 1: as incremental_reconstruct.comp sees (removed again) */
     uint near_blocks;      /* 1: near patches seen block by block (near_cells) */
-    uint conserve_far;     /* 1: MODE_NORM scales the centre's receivers alone */
 };
 
 #endif

@@ -7,6 +7,7 @@
 #include "gpu/context.h"
 #include "gpu/kernel.h"
 #include "reconstruct.comp.h"
+#include "reconstruct_far.comp.h"
 #include "reconstruct_shared.h"
 
 struct reconstruct_pass {
@@ -15,8 +16,8 @@ struct reconstruct_pass {
 
 uint32_t reconstruct_group_size(void) { return RECONSTRUCT_GROUP; }
 
-xrad_status reconstruct_create(struct xrad_context *ctx, reconstruct_pass **out,
-                               xrad_error *err)
+xrad_status reconstruct_create(struct xrad_context *ctx, bool conserve_far,
+                               reconstruct_pass **out, xrad_error *err)
 {
     *out = NULL;
     reconstruct_pass *p = calloc(1, sizeof(*p));
@@ -27,8 +28,8 @@ xrad_status reconstruct_create(struct xrad_context *ctx, reconstruct_pass **out,
         types[b] = b == RECONSTRUCT_BINDING_HEMICUBES ? VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE
                                                       : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
     gpu_kernel_desc d = {
-        .spv = reconstruct_comp_spv,
-        .spv_bytes = sizeof(reconstruct_comp_spv),
+        .spv = conserve_far ? reconstruct_far_comp_spv : reconstruct_comp_spv,
+        .spv_bytes = conserve_far ? sizeof(reconstruct_far_comp_spv) : sizeof(reconstruct_comp_spv),
         .types = types,
         .binding_count = RECONSTRUCT_BINDING_COUNT,
         .push_bytes = sizeof(struct reconstruct_push),
@@ -88,7 +89,6 @@ void reconstruct_record(reconstruct_pass *p, VkCommandBuffer cmd,
         .static_only = params->static_only ? 1u : 0u,
         .redistributed = params->redistributed ? 1u : 0u,
         .near_blocks = params->near_blocks && !params->redistributed ? 1u : 0u,
-        .conserve_far = params->conserve_far ? 1u : 0u,
     };
     gpu_kernel_dispatch_indirect(&p->kernel, cmd, 0, &push, status, dispatch_offset);
     if (!params->conserve)

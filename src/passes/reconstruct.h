@@ -60,11 +60,6 @@ typedef struct reconstruct_params {
     /* A shooter's receivers take at most its power (spirv/reconstruct.comp,
      * "Conservation"): three dispatches instead of one. */
     bool conserve;
-    /* With conserve: only the receivers that see a shooter by its centre
-     * are scaled; those that see it block by block keep their exact form
-     * factors, every quad a candidate occluder of each block
-     * (XRAD_CONSERVE_FAR). */
-    bool conserve_far;
     /* Fixed patches (surfaces with patches_s) are scaled too: the dynamic
      * methods' first solve, before any redistribution removes what they
      * shot. Afterwards removal and insertion must use the same factors. */
@@ -87,8 +82,13 @@ typedef struct reconstruct_params {
     uint32_t max_shooters;  /* the shooter table's size */
 } reconstruct_params;
 
-xrad_status reconstruct_create(struct xrad_context *ctx, reconstruct_pass **out,
-                               xrad_error *err);
+/* conserve_far: the pass with XRAD_CONSERVE_FAR compiled in (its own
+ * SPIR-V, spirv/reconstruct.comp): with conserve, only the receivers that
+ * see a shooter by its centre are scaled; those that see it block by block
+ * keep their exact form factors, every quad a candidate occluder of each
+ * block. */
+xrad_status reconstruct_create(struct xrad_context *ctx, bool conserve_far,
+                               reconstruct_pass **out, xrad_error *err);
 /* Accepts NULL; sets *pass to NULL. The GPU must be done with it. */
 void reconstruct_destroy(struct xrad_context *ctx, reconstruct_pass **pass);
 

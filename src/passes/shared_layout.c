@@ -232,8 +232,7 @@ LAYOUT(reconstruct_push, conserve_fixed, 24);
 LAYOUT(reconstruct_push, static_only, 28);
 LAYOUT(reconstruct_push, redistributed, 32);
 LAYOUT(reconstruct_push, near_blocks, 36);
-LAYOUT(reconstruct_push, conserve_far, 40);
-SIZE(reconstruct_push, 44);
+SIZE(reconstruct_push, 40);
 
 /* spirv/select_shared.h */
 LAYOUT(select_status, draw_index_count, 0);

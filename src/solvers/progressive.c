@@ -131,8 +131,7 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
                                 GPU_MEM_READBACK, GPU_MEM_RADIOSITY, &p->status, err)) ||
         (st = select_create(ctx, gs->surface_count, &p->select, err)) ||
         (st = hemicube_create(ctx, gs->diameter, s->desc.hemicube_res, p->max_shooters, &p->hemicube,
-                              err)) ||
-        (st = reconstruct_create(ctx, &p->reconstruct, err)))
+                              err)))
         goto fail;
     /* Conservation keeps every form factor of a shot: up to 64 MiB, else
      * the single-pass transfer. */
@@ -140,6 +139,9 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
                         sizeof(float);
     bool conserve = s->desc.conserve != XRAD_CONSERVE_OFF && ff_bytes <= MAX_FF_BYTES &&
                     ff_bytes <= ctx->props.limits.maxStorageBufferRange;
+    if ((st = reconstruct_create(ctx, conserve && s->desc.conserve == XRAD_CONSERVE_FAR,
+                                 &p->reconstruct, err)))
+        goto fail;
     if ((st = gpu_buffer_create(ctx, conserve ? ff_bytes : 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                 GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &p->ff, err)) ||
         (st = gpu_buffer_create(ctx, (VkDeviceSize)p->max_shooters * 2 * sizeof(float),
@@ -210,7 +212,6 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
         .subdivide_ratio = s->desc.subdivide_ratio,
         .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
         .conserve = conserve,
-        .conserve_far = conserve && s->desc.conserve == XRAD_CONSERVE_FAR,
         .max_shooters = p->max_shooters,
         .static_only = static_only,
         .redistributed = (flags & PROGRESSIVE_REDISTRIBUTED) != 0,

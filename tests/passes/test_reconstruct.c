@@ -168,7 +168,7 @@ static int rig_create(xrad_context *ctx, uint32_t max_shooters, rig *r)
         (st = host_buffer(ctx, sizeof(struct select_status), &r->status, &err)) ||
         (st = host_buffer(ctx, sc->element_count * sizeof(vec4), &r->snapshot, &err)) ||
         (st = gpu_image_create(ctx, &ids, &r->ids, &err)) ||
-        (st = reconstruct_create(ctx, &r->pass, &err))) {
+        (st = reconstruct_create(ctx, false, &r->pass, &err))) {
         CHECK(0, "resources: %s", err.message);
         return 0;
     }
