@@ -129,6 +129,7 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
         for (uint i0 = sh.i0; i0 <= sh.i1; i0 += bi) {
             uint i1 = min(i0 + bi - 1u, sh.i1);
             float lum = 0.0, area = 0.0;
+            vec3 middle = vec3(0.0); // of the open cells, area-weighted (far)
             bool partial = false;
             for (uint j = j0; j <= j1; j++) {
                 for (uint i = i0; i <= i1; i++) {
@@ -140,6 +141,8 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
                     }
                     lum += el.pos_area.w * dot(shot[sh.shot_first + k].rgb, LUMA);
                     area += el.pos_area.w;
+                    if (CONSERVE_FAR)
+                        middle += el.pos_area.w * shooting_cell_centroid(sf, i, j);
                 }
             }
             // A block partly buried (the floor under a box standing on it)
@@ -150,14 +153,7 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
             // Visibility is the open cells' as one, from their middle: a
             // test per cell made cornell-small's solve three times as long.
             if (area > 0.0 && partial && CONSERVE_FAR) {
-                vec3 c = vec3(0.0);
-                for (uint j = j0; j <= j1; j++)
-                    for (uint i = i0; i <= i1; i++) {
-                        gpu_element el = elements[sf.first_element + j * sf.nu + i];
-                        if ((el.flags & buried_mask()) == 0u)
-                            c += el.pos_area.w * shooting_cell_centroid(sf, i, j);
-                    }
-                if (shooting_segment_hidden(c / area, x, cand, ncand))
+                if (shooting_segment_hidden(middle / area, x, cand, ncand))
                     continue;
                 for (uint j = j0; j <= j1; j++) {
                     for (uint i = i0; i <= i1; i++) {
@@ -400,8 +396,7 @@ void main()
     vec3 ne = elements[e].normal.xyz;
     uint se = elements[e].surface;
     gpu_surface sr = surfaces[se];
-    uint ke = e - sr.first_element;
-    vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+    vec3 x = receiver_point(e);
     // Buried (scene_find_buried), or of M where the hemicubes draw C alone:
     // the occluder test would find such an element visible (nothing drawn
     // hides it), and the light it took would be lost when cross resets M
