@@ -936,11 +936,32 @@ XRAD_API xrad_status xrad_image_read_exr_channel(const char *path, const char *n
                                                  float **channel, uint32_t *width, uint32_t *height,
                                                  xrad_error *err);
 
-/* 8-bit sRGB PNG of exposure * value, clamped (tone mapping: exposure only,
- * documented in README). exposure <= 0: automatic, see
- * xrad_image_auto_exposure. */
+/* How a linear value B becomes a display value in [0, 1] (before the sRGB
+ * transfer), in the PNG writer and the window's present pass alike. */
+typedef enum xrad_tonemap {
+    /* clamp(exposure x B) */
+    XRAD_TONEMAP_EXPOSURE = 0,
+    /* Reinhard et al. 2002's global operator: C = exposure x B, L its Rec.
+     * 709 luminance, then C / (1 + L), clamped (eq. 3 applied to the
+     * luminance, the colour kept). Its automatic exposure is the key's,
+     * xrad_image_key_exposure (eq. 1-2). */
+    XRAD_TONEMAP_REINHARD = 1,
+} xrad_tonemap;
+
+/* "exposure" or "reinhard"; NULL for another value. */
+XRAD_API const char *xrad_tonemap_name(xrad_tonemap tonemap);
+
+/* 8-bit sRGB PNG of exposure * value, clamped (XRAD_TONEMAP_EXPOSURE).
+ * exposure <= 0: automatic, see xrad_image_auto_exposure. */
 XRAD_API xrad_status xrad_image_write_png(const char *path, const float *rgba, uint32_t width,
                                           uint32_t height, double exposure, xrad_error *err);
+
+/* The same with either tone mapping; exposure <= 0: the tone mapping's
+ * automatic one (xrad_image_tonemap_exposure). */
+XRAD_API xrad_status xrad_image_write_png_tonemapped(const char *path, const float *rgba,
+                                                     uint32_t width, uint32_t height,
+                                                     xrad_tonemap tonemap, double exposure,
+                                                     xrad_error *err);
 
 /* Reads an 8-bit PNG (as xrad_image_write_png writes) into float RGBA:
  * sRGB decoded to linear values in [0, 1], alpha 1; *rgba is malloc'd.
@@ -952,6 +973,15 @@ XRAD_API xrad_status xrad_image_read_png(const char *path, float **rgba, uint32_
 /* The exposure that maps the 95th percentile luminance of the non-zero
  * pixels to 0.8; 1 for an all-zero image. */
 XRAD_API double xrad_image_auto_exposure(const float *rgba, uint32_t width, uint32_t height);
+
+/* Reinhard et al. 2002's scale a / L_w (eq. 2) with the key a = 0.18: L_w
+ * the log-average luminance of the non-zero pixels (eq. 1; the background
+ * around a scene, zero, would otherwise set it); 1 for an all-zero image. */
+XRAD_API double xrad_image_key_exposure(const float *rgba, uint32_t width, uint32_t height);
+
+/* xrad_image_auto_exposure or xrad_image_key_exposure, as `tonemap` takes. */
+XRAD_API double xrad_image_tonemap_exposure(xrad_tonemap tonemap, const float *rgba,
+                                            uint32_t width, uint32_t height);
 
 /* NRMSE of a against b: RMS over all pixels and RGB channels of (a - b),
  * divided by (max - min) of b's RGB values. Returns a negative value when b

@@ -250,6 +250,9 @@ typedef struct xrad_viewer_frame_desc {
      * on a dark box over the window's top-left corner, not in the
      * screenshot. */
     const char *overlay;
+    /* The window's and the PNG screenshot's tone mapping; a change with an
+     * automatic exposure measures it again. */
+    xrad_tonemap tonemap;
 } xrad_viewer_frame_desc;
 
 /* One frame with the scheduler's front atlas (begin_frame and end_frame
@@ -261,6 +264,7 @@ typedef struct xrad_viewer_stats {
     uint64_t frames;       /* presented */
     uint32_t recreations;  /* swapchain recreations */
     double exposure;       /* in use */
+    xrad_tonemap tonemap;  /* in use */
     uint64_t serial;       /* the redistribution the last frame showed */
     double solution_time;  /* s, its scene time */
     double frame_ms;       /* host ms from frame to frame, mean of the last 32 */

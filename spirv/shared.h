@@ -34,8 +34,10 @@ struct display_push {
 struct present_push {
     float exposure;  /* display value = exposure x B, then clamped to [0, 1] */
     uint encode;     /* 1: the shader applies the sRGB transfer (UNORM swapchain) */
-    uint pad0, pad1;
+    uint tonemap;    /* an xrad_tonemap: PRESENT_TONEMAP_REINHARD divides by 1 + luminance */
+    uint pad0;
 };
+#define PRESENT_TONEMAP_REINHARD 1 /* XRAD_TONEMAP_REINHARD */
 
 /* Overlay (src/passes/overlay.c, spirv/overlay.vert|frag): text quads in
  * pixels over a window's image. clip = pixel x scale + offset. */

@@ -27,7 +27,10 @@ static void help(void)
            "                    per element, RGBA float (for xrad compare --scene)\n"
            "  --width N, --height N   image size [default: the scene camera's]\n"
            "  --time T          seconds of scene animation to pose dynamic objects [0]\n"
-           "  --exposure E      PNG scale factor; 0 = auto (95th percentile -> 0.8) [0]\n"
+           "  --exposure E      PNG scale factor; 0 = auto: the 95th percentile luminance\n"
+           "                    -> 0.8, with reinhard the log-average -> 0.18 [0]\n"
+           "  --tonemap T       PNG tone mapping: exposure (exposure x B, clamped), reinhard\n"
+           "                    (Reinhard 2002's global operator, C / (1 + L)) [exposure]\n"
            "  --frames N        advance N frames of the scene's animation after the first\n"
            "                    and write the last [0]\n"
            "  --fps F           frames per second of scene time [30]\n"
@@ -59,6 +62,7 @@ typedef struct render_opts {
     const char *scene, *method, *png, *exr, *atlas, *device;
     uint32_t width, height;
     double time, exposure, fps;
+    xrad_tonemap tonemap;
     uint32_t frames;
     const char *frame_out;
     int nearest, quiet, check;
@@ -118,6 +122,8 @@ static int parse(int argc, char **argv, render_opts *o)
             o->frame_out = cli_value(&a);
         } else if (!strcmp(opt, "exposure")) {
             cli_double(&a, 0, 1e30, &o->exposure);
+        } else if (!strcmp(opt, "tonemap")) {
+            method_tonemap_option(&a, &o->tonemap);
         } else if (!strcmp(opt, "nearest")) {
             o->nearest = 1;
         } else if (!strcmp(opt, "rays")) {
@@ -266,7 +272,7 @@ int cmd_render(int argc, char **argv)
         t_display = cli_now();
         /* One exposure for all frames, so that they compare. */
         if (!(exposure > 0))
-            exposure = xrad_image_auto_exposure(image, w, h);
+            exposure = xrad_image_tonemap_exposure(o.tonemap, image, w, h);
         if (o.frame_out) {
             char path[1024];
             snprintf(path, sizeof(path), "%s/frame-%04u.png", o.frame_out, f);
@@ -274,7 +280,7 @@ int cmd_render(int argc, char **argv)
                 cli_fail(&err, XRAD_ERROR_SYSTEM, "%s: cannot create its directory", path);
                 goto fail;
             }
-            if (xrad_image_write_png(path, image, w, h, exposure, &err))
+            if (xrad_image_write_png_tonemapped(path, image, w, h, o.tonemap, exposure, &err))
                 goto fail;
         }
         if (o.frames && !o.quiet)
@@ -300,7 +306,7 @@ int cmd_render(int argc, char **argv)
         }
         xrad_status st =
             k == 0   ? xrad_image_write_exr_channel(path, image, "emitter", emitter, w, h, &err)
-            : k == 1 ? xrad_image_write_png(path, image, w, h, exposure, &err)
+            : k == 1 ? xrad_image_write_png_tonemapped(path, image, w, h, o.tonemap, exposure, &err)
                      : xrad_image_write_exr(path, atlas.rgba, atlas.width, atlas.height, &err);
         if (st)
             goto fail;

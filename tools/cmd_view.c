@@ -62,6 +62,7 @@ static void help(void)
            "  --speed S         animation speed, scene seconds per second [1]\n"
            "  --width N, --height N   window size [the scene camera's, else 960 x 720]\n"
            "  --exposure E      display scale factor; 0 = auto from the first solution [0]\n"
+           "  --tonemap T       exposure or reinhard (as xrad render's; T switches) [exposure]\n"
            "  --nearest         show elements as flat squares\n"
            "  --no-vsync        present without waiting for the display's refresh\n"
            "  --no-overlay      start without the figures on screen (H shows them)\n"
@@ -89,6 +90,7 @@ static const char keys_text[] =
     "  G                      grab the next dynamic object (after the last: release)\n"
     "  arrows, PgUp PgDn      move the grabbed object: on the ground, down, up\n"
     "  + -                    exposure up / down\n"
+    "  T                      tone mapping: exposure / Reinhard (exposure measured anew)\n"
     "  V                      elements (nearest) / interpolated\n"
     "  R                      camera back to the scene's\n"
     "  F2                     screenshot to out/view-NNNN.png\n"
@@ -105,6 +107,7 @@ static void keymap(void)
 typedef struct view_opts {
     const char *scene, *method, *device, *screenshot;
     double time, fps, speed, exposure;
+    xrad_tonemap tonemap;
     uint32_t width, height, frames, resize_at, resize_w, resize_h;
     int nearest, no_vsync, no_overlay;
     method_settings m;
@@ -138,6 +141,8 @@ static int parse(int argc, char **argv, view_opts *o)
             cli_double(&a, 0, 1e6, &o->speed);
         } else if (!strcmp(opt, "exposure")) {
             cli_double(&a, 0, 1e12, &o->exposure);
+        } else if (!strcmp(opt, "tonemap")) {
+            method_tonemap_option(&a, &o->tonemap);
         } else if (!strcmp(opt, "width")) {
             cli_uint(&a, 16, 16384, &o->width);
         } else if (!strcmp(opt, "height")) {
@@ -191,6 +196,7 @@ typedef struct view_state {
     camera home, cam;
     double move_speed; /* m/s */
     double exposure;   /* 0: automatic (the viewer's) */
+    xrad_tonemap tonemap;
     bool paused, step, nearest, screenshot_key;
     bool overlay, overlay_keys; /* figures on screen; the key list with them */
     xrad_method method;
@@ -272,6 +278,11 @@ static void on_key(GLFWwindow *w, int key, int scancode, int action, int mods)
     case GLFW_KEY_R: st->cam = st->home; break;
     case GLFW_KEY_F1: show_keys(st); break;
     case GLFW_KEY_H: st->overlay = !st->overlay; break;
+    case GLFW_KEY_T:
+        st->tonemap = st->tonemap == XRAD_TONEMAP_REINHARD ? XRAD_TONEMAP_EXPOSURE
+                                                           : XRAD_TONEMAP_REINHARD;
+        st->exposure = 0; /* the new operator's own, measured by the viewer */
+        break;
     case GLFW_KEY_F2: st->screenshot_key = true; break;
     case GLFW_KEY_KP_ADD: st->exposure *= 1.25; break;
     case GLFW_KEY_KP_SUBTRACT: st->exposure /= 1.25; break;
@@ -392,13 +403,14 @@ static void overlay_text(const view_state *st, const char *name, xrad_scheduler 
     pass_lines(ss.passes, ss.pass_count, 4, solver, sizeof(solver));
     pass_lines(vs.passes, vs.pass_count, 4, display, sizeof(display));
     snprintf(out, size,
-             "%s   method %s%s\n"
+             "%s   method %s%s   %s x %.3g\n"
              "display %.1f fps (%.1f ms a frame)\n"
              "redistribution %.0f ms (%s), solution at t = %.2f s\n"
              "GPU ms, redistribution:\n    %s\n"
              "GPU ms, display:\n    %s\n"
              "%s",
              name, xrad_method_name(st->method), st->paused ? "   paused" : "",
+             xrad_tonemap_name(vs.tonemap), vs.exposure,
              vs.frame_ms > 0 ? 1000.0 / vs.frame_ms : 0.0, vs.frame_ms, ss.frame_ms,
              ss.published ? "running" : "first solve", vs.solution_time,
              ss.pass_count ? solver : "(none yet)", vs.pass_count ? display : "(none yet)",
@@ -422,7 +434,8 @@ static void print_summary(xrad_scheduler *sch, xrad_viewer *vw)
         printf("    %-24s %9.2f  (redistribution)\n", ss.passes[i].name, ss.passes[i].ms);
     for (uint32_t i = 0; i < vs.pass_count; i++)
         printf("    %-24s %9.2f  (display frame)\n", vs.passes[i].name, vs.passes[i].ms);
-    printf("  swapchain recreations: %u, exposure %.4g\n", vs.recreations, vs.exposure);
+    printf("  swapchain recreations: %u, exposure %.4g (%s)\n", vs.recreations, vs.exposure,
+           xrad_tonemap_name(vs.tonemap));
 }
 
 /* ---------------------------------------------------------------- loop */
@@ -529,6 +542,7 @@ static xrad_status run(const view_opts *o, view_state *st, xrad_scheduler *sch, 
         xrad_viewer_frame_desc d = {
             .time = anim,
             .exposure = st->exposure,
+            .tonemap = st->tonemap,
             .nearest = st->nearest,
             .width = (uint32_t)fw,
             .height = (uint32_t)fh,
@@ -633,6 +647,7 @@ int cmd_view(int argc, char **argv)
         .home = cam,
         .cam = cam,
         .exposure = o.exposure,
+        .tonemap = o.tonemap,
         .nearest = o.nearest,
         .overlay = !o.no_overlay,
         .method = o.m.solver.method,

@@ -43,6 +43,16 @@ const char *method_visibility_name(xrad_visibility v)
     return v == XRAD_VISIBILITY_CLIP ? "clip" : v == XRAD_VISIBILITY_RAYS ? "rays" : "auto";
 }
 
+bool method_tonemap_option(cli_args *a, xrad_tonemap *out)
+{
+    static const char *const names[] = {"exposure", "reinhard"};
+    int k;
+    if (!pick_name(a, names, 2, &k))
+        return false;
+    *out = (xrad_tonemap)k;
+    return true;
+}
+
 bool method_reference_solver_option(cli_args *a, xrad_reference_solver *out)
 {
     static const char *const names[] = {"auto", "dense", "gather"};

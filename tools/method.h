@@ -54,6 +54,8 @@ const char *method_visibility_name(xrad_visibility v);
 /* --reference-solver's value (auto, dense, gather) into *out; a usage
  * error otherwise. */
 bool method_reference_solver_option(cli_args *a, xrad_reference_solver *out);
+/* --tonemap exposure|reinhard. */
+bool method_tonemap_option(cli_args *a, xrad_tonemap *out);
 /* "dense" or "gather" (the resolved solvers), "auto". */
 const char *method_reference_solver_name(xrad_reference_solver s);
 

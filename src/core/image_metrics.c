@@ -27,6 +27,12 @@ static int cmp_float(const void *x, const void *y)
     return (a > b) - (a < b);
 }
 
+/* Rec. 709 luminance of pixel i. */
+static float luminance(const float *rgba, size_t i)
+{
+    return 0.2126f * rgba[i * 4] + 0.7152f * rgba[i * 4 + 1] + 0.0722f * rgba[i * 4 + 2];
+}
+
 double xrad_image_auto_exposure(const float *rgba, uint32_t width, uint32_t height)
 {
     size_t n = (size_t)width * height, count = 0;
@@ -34,8 +40,7 @@ double xrad_image_auto_exposure(const float *rgba, uint32_t width, uint32_t heig
     if (!lum)
         return 1;
     for (size_t i = 0; i < n; i++) {
-        /* Rec. 709 luminance */
-        float y = 0.2126f * rgba[i * 4] + 0.7152f * rgba[i * 4 + 1] + 0.0722f * rgba[i * 4 + 2];
+        float y = luminance(rgba, i);
         if (y > 0 && isfinite(y))
             lum[count++] = y;
     }
@@ -48,4 +53,38 @@ double xrad_image_auto_exposure(const float *rgba, uint32_t width, uint32_t heig
     }
     free(lum);
     return exposure;
+}
+
+double xrad_image_key_exposure(const float *rgba, uint32_t width, uint32_t height)
+{
+    /* Reinhard et al. 2002, eq. 1: exp of the mean log luminance; their
+     * delta against log(0) is not needed where the zeros are left out. */
+    size_t n = (size_t)width * height, count = 0;
+    double sum = 0;
+    for (size_t i = 0; i < n; i++) {
+        double y = luminance(rgba, i);
+        if (y > 0 && isfinite(y)) {
+            sum += log(y);
+            count++;
+        }
+    }
+    if (count == 0)
+        return 1;
+    return 0.18 / exp(sum / (double)count); /* eq. 2, key a = 0.18 */
+}
+
+double xrad_image_tonemap_exposure(xrad_tonemap tonemap, const float *rgba, uint32_t width,
+                                   uint32_t height)
+{
+    return tonemap == XRAD_TONEMAP_REINHARD ? xrad_image_key_exposure(rgba, width, height)
+                                            : xrad_image_auto_exposure(rgba, width, height);
+}
+
+const char *xrad_tonemap_name(xrad_tonemap tonemap)
+{
+    switch (tonemap) {
+    case XRAD_TONEMAP_EXPOSURE: return "exposure";
+    case XRAD_TONEMAP_REINHARD: return "reinhard";
+    }
+    return NULL;
 }

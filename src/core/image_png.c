@@ -1,5 +1,7 @@
-/* Tone-mapped 8-bit sRGB PNG output. Tone mapping is a plain exposure
- * scale followed by a clamp and the sRGB transfer curve (README, "Images"). */
+/* Tone-mapped 8-bit sRGB PNG output. Tone mapping is an exposure scale,
+ * with XRAD_TONEMAP_REINHARD Reinhard's global operator, a clamp and the
+ * sRGB transfer curve (README, "Images"); spirv/present.frag does the same
+ * for a window. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,18 +23,38 @@ static uint8_t srgb_encode(double v)
 xrad_status xrad_image_write_png(const char *path, const float *rgba, uint32_t width,
                                  uint32_t height, double exposure, xrad_error *err)
 {
+    return xrad_image_write_png_tonemapped(path, rgba, width, height, XRAD_TONEMAP_EXPOSURE,
+                                           exposure, err);
+}
+
+xrad_status xrad_image_write_png_tonemapped(const char *path, const float *rgba, uint32_t width,
+                                            uint32_t height, xrad_tonemap tonemap,
+                                            double exposure, xrad_error *err)
+{
     if (width == 0 || height == 0 || width > 65536 || height > 65536)
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: cannot write a %ux%u image", path, width,
                          height);
+    if (!xrad_tonemap_name(tonemap))
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: unknown tone mapping %d", path,
+                         (int)tonemap);
     if (!(exposure > 0) || !isfinite(exposure))
-        exposure = xrad_image_auto_exposure(rgba, width, height);
+        exposure = xrad_image_tonemap_exposure(tonemap, rgba, width, height);
     size_t n = (size_t)width * height;
     uint8_t *px = malloc(n * 3);
     if (!px)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory", path);
-    for (size_t i = 0; i < n; i++)
-        for (int c = 0; c < 3; c++)
-            px[i * 3 + c] = srgb_encode(rgba[i * 4 + c] * exposure);
+    for (size_t i = 0; i < n; i++) {
+        double c[3], scale = 1;
+        for (int k = 0; k < 3; k++)
+            c[k] = rgba[i * 4 + k] * exposure;
+        if (tonemap == XRAD_TONEMAP_REINHARD) {
+            /* Reinhard et al. 2002, eq. 3, on the Rec. 709 luminance. */
+            double l = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+            scale = 1 / (1 + fmax(l, 0));
+        }
+        for (int k = 0; k < 3; k++)
+            px[i * 3 + k] = srgb_encode(c[k] * scale);
+    }
 
     png_image img;
     memset(&img, 0, sizeof(img));

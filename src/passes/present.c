@@ -21,8 +21,8 @@ struct present_pass {
     bool encode; /* the format stores the values as given (UNORM) */
 };
 
-xrad_status present_create(struct xrad_context *ctx, VkFormat format, present_pass **out,
-                           xrad_error *err)
+xrad_status present_create(struct xrad_context *ctx, VkFormat format, VkImageLayout final_layout,
+                           present_pass **out, xrad_error *err)
 {
     *out = NULL;
     present_pass *p = calloc(1, sizeof(*p));
@@ -31,7 +31,7 @@ xrad_status present_create(struct xrad_context *ctx, VkFormat format, present_pa
     p->encode = format != VK_FORMAT_B8G8R8A8_SRGB && format != VK_FORMAT_R8G8B8A8_SRGB;
     gpu_render_pass_desc rp = {
         .color_format = format,
-        .color_final_layout = VK_IMAGE_LAYOUT_PRESENT_SRC_KHR,
+        .color_final_layout = final_layout,
     };
     VkDescriptorSetLayoutBinding binding = {
         .binding = PRESENT_BINDING_SOURCE,
@@ -123,6 +123,7 @@ void present_record(struct xrad_context *ctx, present_pass *pass, VkCommandBuffe
     struct present_push push = {
         .exposure = (float)draw->exposure,
         .encode = pass->encode ? 1u : 0u,
+        .tonemap = (uint32_t)draw->tonemap,
     };
     VkViewport viewport = {0, 0, (float)draw->extent.width, (float)draw->extent.height, 0, 1};
     VkRect2D scissor = {.extent = draw->extent};

@@ -1,7 +1,8 @@
 /*
  * Present pass: the display target's linear B (passes/display.h) to a
  * window's swapchain image, with the PNG writer's tone mapping (exposure,
- * clamp, sRGB), leaving the image ready to present. One descriptor set per
+ * Reinhard's operator where asked, clamp, sRGB), leaving the image ready to
+ * present. One descriptor set per
  * frame slot, so that frames in flight do not share one.
  */
 #ifndef XRAD_PASSES_PRESENT_H
@@ -21,9 +22,10 @@ struct xrad_context;
 
 typedef struct present_pass present_pass;
 
-/* For swapchain images of `format` (8-bit UNORM or SRGB). */
-xrad_status present_create(struct xrad_context *ctx, VkFormat format, present_pass **out,
-                           xrad_error *err);
+/* For images of `format` (8-bit UNORM or SRGB) left in `final_layout`
+ * (PRESENT_SRC_KHR for a swapchain's). */
+xrad_status present_create(struct xrad_context *ctx, VkFormat format, VkImageLayout final_layout,
+                           present_pass **out, xrad_error *err);
 /* Accepts NULL; sets *pass to NULL. The GPU must be done with it. */
 void present_destroy(struct xrad_context *ctx, present_pass **pass);
 
@@ -35,6 +37,7 @@ typedef struct present_draw {
     VkFramebuffer framebuffer; /* a swapchain image's, of present_render_pass */
     VkExtent2D extent;
     double exposure;           /* > 0 */
+    xrad_tonemap tonemap;
     uint32_t slot;             /* < PRESENT_SLOTS: the frame slot, whose last recording has
                                   completed */
     /* Non-NULL: text drawn over the image (an overlay made for
@@ -43,7 +46,7 @@ typedef struct present_draw {
     const overlay_draw *text;
 } present_draw;
 
-/* Records the pass; the swapchain image ends in PRESENT_SRC_KHR. */
+/* Records the pass; the image ends in the pass's final layout. */
 void present_record(struct xrad_context *ctx, present_pass *pass, VkCommandBuffer cmd,
                     const present_draw *draw);
 

@@ -31,6 +31,7 @@ typedef struct viewer_slot {
     bool read;             /* this slot's frame copies the image to `readback` */
     uint32_t read_w, read_h;
     double read_exposure;
+    xrad_tonemap read_tonemap;
     char screenshot[1024]; /* where to write it; empty: auto exposure only */
 } viewer_slot;
 
@@ -47,6 +48,7 @@ struct viewer {
     gpu_image empty;        /* 1 x 1 zero atlas: frames before the first publication */
     double exposure;        /* 0: automatic, not measured yet */
     bool exposure_measured;
+    xrad_tonemap tonemap;   /* the frames' (an automatic exposure is its own) */
     VkSemaphore displayed;  /* the scheduler's, learned from the first frame */
     uint64_t last_signal;   /* its value of the last frame submitted */
     double last_start_ms;
@@ -111,7 +113,7 @@ xrad_status viewer_create(struct xrad_context *ctx, const xrad_scene *scene,
     xrad_status s;
     if ((s = gpu_swapchain_format(ctx, desc->surface, &format, err)) ||
         (s = gpu_thread_pool(ctx, &v->pool, err)) ||
-        (s = present_create(ctx, format, &v->present, err)) ||
+        (s = present_create(ctx, format, VK_IMAGE_LAYOUT_PRESENT_SRC_KHR, &v->present, err)) ||
         (s = overlay_create(ctx, present_render_pass(v->present), &v->overlay, err)) ||
         (s = gpu_swapchain_create(ctx, desc->surface, present_render_pass(v->present),
                                   desc->width, desc->height, desc->vsync, &v->sc, err)))
@@ -189,7 +191,7 @@ static xrad_status slot_finish(viewer *v, viewer_slot *sl, xrad_error *err)
     sl->read = false;
     const float *rgba = sl->readback.alloc.mapped;
     if (!v->exposure_measured && v->exposure <= 0) {
-        v->exposure = xrad_image_auto_exposure(rgba, sl->read_w, sl->read_h);
+        v->exposure = xrad_image_tonemap_exposure(v->tonemap, rgba, sl->read_w, sl->read_h);
         v->exposure_measured = true;
     }
     if (!sl->screenshot[0])
@@ -197,8 +199,8 @@ static xrad_status slot_finish(viewer *v, viewer_slot *sl, xrad_error *err)
     size_t n = strlen(sl->screenshot);
     bool exr = n >= 4 && !strcmp(sl->screenshot + n - 4, ".exr");
     s = exr ? xrad_image_write_exr(sl->screenshot, rgba, sl->read_w, sl->read_h, err)
-            : xrad_image_write_png(sl->screenshot, rgba, sl->read_w, sl->read_h,
-                                   sl->read_exposure, err);
+            : xrad_image_write_png_tonemapped(sl->screenshot, rgba, sl->read_w, sl->read_h,
+                                             sl->read_tonemap, sl->read_exposure, err);
     sl->screenshot[0] = 0;
     return s;
 }
@@ -303,6 +305,7 @@ static xrad_status record(viewer *v, viewer_slot *sl, uint32_t image, const sche
                        .framebuffer = v->sc.cur.framebuffers[image],
                        .extent = v->sc.extent,
                        .exposure = v->exposure > 0 ? v->exposure : 1.0,
+                       .tonemap = v->tonemap,
                        .slot = (uint32_t)(sl - v->slots),
                        .overlay = v->overlay,
                        .text = &text,
@@ -353,7 +356,13 @@ xrad_status viewer_frame(viewer *v, scheduler *sched, const viewer_frame_desc *d
     if (d->exposure > 0) {
         v->exposure = d->exposure;
         v->exposure_measured = true;
+    } else if (d->tonemap != v->tonemap) {
+        /* An automatic exposure is measured again for the new operator:
+         * Reinhard's key scale is not the exposure mapping's. */
+        v->exposure = 0;
+        v->exposure_measured = false;
     }
+    v->tonemap = d->tonemap;
     viewer_slot *sl = &v->slots[v->next];
     xrad_status s = XRAD_OK;
     if (sl->pending && (s = slot_finish(v, sl, err)))
@@ -407,6 +416,7 @@ xrad_status viewer_frame(viewer *v, scheduler *sched, const viewer_frame_desc *d
         sl->read_w = w;
         sl->read_h = h;
         sl->read_exposure = v->exposure;
+        sl->read_tonemap = v->tonemap;
         snprintf(sl->screenshot, sizeof(sl->screenshot), "%s", d->screenshot ? d->screenshot : "");
     }
     if (!s)
@@ -440,4 +450,5 @@ void viewer_get_stats(const viewer *v, viewer_stats *out)
 {
     *out = v->stats;
     out->exposure = v->exposure;
+    out->tonemap = v->tonemap;
 }

@@ -37,7 +37,9 @@ typedef struct viewer_frame_desc {
     camera cam;             /* position, look_at, up, fov_y */
     double time;            /* s, the pose dynamic objects are drawn at */
     double exposure;        /* > 0; <= 0: automatic from the first frame showing a
-                               solution (xrad_image_auto_exposure), then kept */
+                               solution (xrad_image_tonemap_exposure), then kept
+                               while the tone mapping stays */
+    xrad_tonemap tonemap;
     bool nearest;           /* elements as flat squares instead of interpolated */
     uint32_t width, height; /* the window's framebuffer now; a change recreates */
     /* When non-NULL: after this frame completes, its linear image (before
@@ -53,6 +55,7 @@ typedef struct viewer_stats {
     uint64_t frames;          /* frames presented */
     uint32_t recreations;     /* swapchain recreations */
     double exposure;          /* in use */
+    xrad_tonemap tonemap;     /* in use */
     uint64_t serial;          /* redistribution the last frame showed (0: none yet) */
     double solution_time;     /* s, its scene time */
     sliding_window frame_ms;  /* host time from one frame's start to the next's */

@@ -60,6 +60,7 @@ xrad_status xrad_viewer_frame(xrad_viewer *x, xrad_scheduler *s, const xrad_view
                 .fov_y = c->fov_degrees * M_PI / 180.0},
         .time = d->time,
         .exposure = d->exposure,
+        .tonemap = d->tonemap,
         .nearest = d->nearest != 0,
         .width = d->width,
         .height = d->height,
@@ -77,6 +78,7 @@ void xrad_viewer_get_stats(const xrad_viewer *x, xrad_viewer_stats *out)
     out->frames = vs.frames;
     out->recreations = vs.recreations;
     out->exposure = vs.exposure;
+    out->tonemap = vs.tonemap;
     out->serial = vs.serial;
     out->solution_time = vs.solution_time;
     out->frame_ms = sliding_mean(&vs.frame_ms);

@@ -111,6 +111,11 @@ JSON
 expect 0 "render tiny" -- "$xrad" render "$tmp/tiny.json" --out "$tmp/tiny.exr" --quiet
 expect_text "$tmp/out" "tiny.exr" "render says where the image went"
 expect_text "$tmp/out" "time:" "render prints its timings"
+# Reinhard's operator: a PNG; another name is refused, the choices listed.
+expect 0 "render --tonemap reinhard" -- "$xrad" render "$tmp/tiny.json" --tonemap reinhard --out "$tmp/tiny-r.png" --quiet
+expect_text "$tmp/out" "tiny-r.png" "the Reinhard PNG is written"
+expect 1 "unknown tone mapping" -- "$xrad" render "$tmp/tiny.json" --tonemap filmic --out "$tmp/x.png"
+expect_text "$tmp/err" "--tonemap: 'filmic' is none of exposure, reinhard" "the choices are named"
 # --check: the error against the CPU reference at the last frame's pose.
 expect 0 "render --check" -- "$xrad" render "$tmp/tiny.json" --method progressive --check --out "$tmp/c.png" --quiet
 expect_text "$tmp/out" "against the CPU reference at t = 0.000 s (.*): surface_error [0-9.]* (.*), element p50 [0-9.]*, p95 [0-9.]*, mean ratio [0-9.]*$" "the figures"

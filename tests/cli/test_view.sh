@@ -93,12 +93,15 @@ if run "view with a resize" -- "$xrad" view "$lowq" --frames 20 --resize-at 5 \
     [ "$size" = 320x240 ] || fail "screenshot after the resize is $size, want 320x240"
 fi
 
-# The other dynamic method and the restarting one match render too.
+# The other dynamic method and the restarting one match render too, the
+# restarting one through Reinhard's operator on both sides.
 for m in incremental progressive; do
+    tm=exposure
+    [ $m = progressive ] && tm=reinhard
     run "view $m" -- "$xrad" view "$lowq" --method $m --frames 10 --screenshot "$tmp/$m.png" \
-        --exposure 2
+        --exposure 2 --tonemap $tm
     run "render $m" -- "$xrad" render "$lowq" --method $m --frames 10 --exposure 2 \
-        --png "$tmp/$m-render.png" --quiet
+        --tonemap $tm --png "$tmp/$m-render.png" --quiet
     nrmse "$tmp/$m.png" "$tmp/$m-render.png" 0.02
 done
 

@@ -1,8 +1,10 @@
 /* Image I/O and metrics: EXR round trip is lossless for float data (a fifth
- * named channel too), PNG pixels follow the sRGB curve, NRMSE matches its
+ * named channel too), PNG pixels follow the sRGB curve (with Reinhard's
+ * operator, worked by hand), NRMSE matches its
  * definition on images built so that the answer is known in closed form. */
 #include <png.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "harness.h"
 #include "xrad.h"
@@ -161,6 +163,24 @@ static void test_exr_half_channel(void)
     free(ch);
 }
 
+/* The first row of 8-bit PNG `path` as RGB bytes (n pixels); 0 on failure. */
+static int read_png_rgb(const char *path, uint8_t *rgb, uint32_t n)
+{
+    png_image img;
+    memset(&img, 0, sizeof(img));
+    img.version = PNG_IMAGE_VERSION;
+    int ok = png_image_begin_read_from_file(&img, path);
+    CHECK(ok && img.width == n && img.height == 1, "%s: png header", path);
+    if (!ok || img.width != n || img.height != 1) {
+        png_image_free(&img);
+        return 0;
+    }
+    img.format = PNG_FORMAT_RGB;
+    ok = png_image_finish_read(&img, NULL, rgb, 0, NULL);
+    CHECK(ok, "%s: png read", path);
+    return ok;
+}
+
 static void test_png_srgb(const char *dir)
 {
     /* Exposure 1: 0 -> 0, 1 -> 255, 0.5 -> sRGB(0.5) = 1.055 * 0.5^(1/2.4) - 0.055 = 0.7354 -> 188;
@@ -171,20 +191,57 @@ static void test_png_srgb(const char *dir)
     snprintf(path, sizeof(path), "%s/srgb.png", dir);
     xrad_error err = {0};
     CHECK(xrad_image_write_png(path, px, 5, 1, 1.0, &err) == XRAD_OK, "%s", err.message);
-    png_image img;
-    memset(&img, 0, sizeof(img));
-    img.version = PNG_IMAGE_VERSION;
     uint8_t rgb[5 * 3] = {0};
-    int ok = png_image_begin_read_from_file(&img, path);
-    CHECK(ok && img.width == 5 && img.height == 1, "png header");
-    if (ok) {
-        img.format = PNG_FORMAT_RGB;
-        ok = png_image_finish_read(&img, NULL, rgb, 0, NULL);
-        CHECK(ok, "png read");
-    }
     const uint8_t want[5] = {0, 255, 188, 7, 255};
-    for (int i = 0; i < 5; i++)
-        CHECK(rgb[i * 3] == want[i], "pixel %d = %u, want %u", i, rgb[i * 3], want[i]);
+    if (read_png_rgb(path, rgb, 5))
+        for (int i = 0; i < 5; i++)
+            CHECK(rgb[i * 3] == want[i], "pixel %d = %u, want %u", i, rgb[i * 3], want[i]);
+}
+
+/* Reinhard et al. 2002's global operator, the answers worked by hand:
+ * C / (1 + L), L = 0.2126 R + 0.7152 G + 0.0722 B, then sRGB. Grey 1 ->
+ * 0.5 -> 188; grey 3 -> 0.75 -> 225; (0.5, 0, 0): L = 0.1063 -> 0.4520 ->
+ * 179; (0, 0.5, 0.25): L = 0.37565 -> (0, 0.3635, 0.1817) -> (0, 162,
+ * 118). The key exposure of greys 0.5 and 2 and a zero (left out): the
+ * log-average is 1 (eq. 1), so 0.18 (eq. 2), and with it 0.5 -> 0.09 /
+ * 1.09 -> 81, 2 -> 0.36 / 1.36 -> 141. */
+static void test_png_reinhard(const char *dir)
+{
+    float px[4 * 4] = {1, 1, 1, 1, 3, 3, 3, 1, 0.5f, 0, 0, 1, 0, 0.5f, 0.25f, 1};
+    char path[512];
+    snprintf(path, sizeof(path), "%s/reinhard.png", dir);
+    xrad_error err = {0};
+    CHECK(xrad_image_write_png_tonemapped(path, px, 4, 1, XRAD_TONEMAP_REINHARD, 1.0, &err) ==
+              XRAD_OK,
+          "%s", err.message);
+    uint8_t rgb[4 * 3] = {0};
+    const uint8_t want[4 * 3] = {188, 188, 188, 225, 225, 225, 179, 0, 0, 0, 162, 118};
+    if (read_png_rgb(path, rgb, 4))
+        for (int i = 0; i < 12; i++)
+            CHECK(rgb[i] == want[i], "reinhard: pixel %d channel %d = %u, want %u", i / 3, i % 3,
+                  rgb[i], want[i]);
+
+    float key[3 * 4] = {0.5f, 0.5f, 0.5f, 1, 0, 0, 0, 0, 2, 2, 2, 1};
+    CHECK_REL(xrad_image_key_exposure(key, 3, 1), 0.18, 1e-6);
+    CHECK_REL(xrad_image_tonemap_exposure(XRAD_TONEMAP_REINHARD, key, 3, 1), 0.18, 1e-6);
+    float zero[4] = {0, 0, 0, 0};
+    CHECK(xrad_image_key_exposure(zero, 1, 1) == 1, "an all-zero image's key exposure is not 1");
+    snprintf(path, sizeof(path), "%s/reinhard-auto.png", dir);
+    CHECK(xrad_image_write_png_tonemapped(path, key, 3, 1, XRAD_TONEMAP_REINHARD, 0, &err) ==
+              XRAD_OK,
+          "%s", err.message);
+    const uint8_t want_auto[3] = {81, 0, 141};
+    if (read_png_rgb(path, rgb, 3))
+        for (int i = 0; i < 3; i++)
+            CHECK(rgb[i * 3] == want_auto[i], "reinhard, automatic: pixel %d = %u, want %u", i,
+                  rgb[i * 3], want_auto[i]);
+    /* An unknown operator is an error, not an image. */
+    CHECK(xrad_image_write_png_tonemapped(path, key, 3, 1, (xrad_tonemap)7, 1, &err) ==
+              XRAD_ERROR_INPUT,
+          "tone mapping 7 accepted");
+    CHECK(!strcmp(xrad_tonemap_name(XRAD_TONEMAP_REINHARD), "reinhard") &&
+              xrad_tonemap_name((xrad_tonemap)7) == NULL,
+          "tone mapping names");
 }
 
 static void test_nrmse(void)
@@ -216,6 +273,7 @@ int main(void)
         return test_skip("cannot make a temporary directory");
     test_exr_roundtrip(dir);
     test_png_srgb(dir);
+    test_png_reinhard(dir);
     test_exr_half_rgba();
     test_exr_channel(dir);
     test_exr_half_channel();
