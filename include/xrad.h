@@ -406,6 +406,40 @@ typedef struct xrad_atlas {
 XRAD_API xrad_status xrad_atlas_create(const xrad_scene *scene, xrad_atlas *atlas, xrad_error *err);
 XRAD_API void xrad_atlas_destroy(xrad_atlas *atlas);
 
+/* ------------------------------------------------------------- photometry */
+
+/* A luminaire's luminous intensity distribution, read from an EULUMDAT
+ * (.ldt) or IES LM-63 (.ies, photometric type C) file by xrad's own
+ * readers (Wallner 3.2): C-planes about the luminaire's downward axis,
+ * gamma from straight down. Symmetric files are mirrored to the whole
+ * circle; between samples the intensity is bilinear. Radiant intensity is
+ * luminous intensity / 683 (W/sr from cd, Wallner eq. 12). */
+typedef struct xrad_photometry xrad_photometry;
+
+/* Errors name the file, the line and the field (XRAD_ERROR_INPUT). */
+XRAD_API xrad_status xrad_photometry_load(const char *path, xrad_photometry **out,
+                                          xrad_error *err);
+/* Accepts NULL and *p == NULL; sets *p to NULL. */
+XRAD_API void xrad_photometry_destroy(xrad_photometry **p);
+
+typedef struct xrad_photometry_info {
+    uint32_t c_planes;        /* over the whole circle after mirroring; 1: rotationally symmetric */
+    uint32_t gamma_angles;
+    double gamma_min, gamma_max; /* degrees; no light outside */
+    double max_intensity;     /* cd, the largest sample */
+    double max_c, max_gamma;  /* degrees, where it is */
+    double flux_stated;       /* lm, the file's (LDT: lamps x light output ratio; IES: lamps x
+                                 lumens per lamp); 0 where it states none */
+    double flux;              /* lm, the integral of the intensity over the sphere */
+    int tilt_ignored;         /* 1: an IES file's TILT=INCLUDE factors are not applied */
+} xrad_photometry_info;
+
+XRAD_API void xrad_photometry_get_info(const xrad_photometry *p, xrad_photometry_info *out);
+
+/* cd towards (c, gamma), degrees; C wraps around the circle. */
+XRAD_API double xrad_photometry_intensity(const xrad_photometry *p, double c_deg,
+                                          double gamma_deg);
+
 /* ------------------------------------------------------- reference solver */
 
 /* Progress callback: `stage` names the phase, `fraction` is in [0, 1]. */

@@ -1,5 +1,7 @@
 /* xrad info SCENE: what a scene holds and what it costs, on the host and,
- * for one method, on the GPU by category. */
+ * for one method, on the GPU by category; xrad info LUMINAIRE: what a
+ * photometric file holds. */
+#include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -8,7 +10,11 @@
 
 static void help(void)
 {
-    printf("usage: xrad info SCENE.json [--method NAME] [--no-gpu] [options]\n\n"
+    printf("usage: xrad info SCENE.json [--method NAME] [--no-gpu] [options]\n"
+           "       xrad info LUMINAIRE.ldt|.ies\n\n"
+           "A luminaire file (EULUMDAT or IES LM-63): its C-planes, gamma range, largest\n"
+           "intensity and luminous flux, the integral of its intensities beside what the\n"
+           "file states.\n\n"
            "Prints the scene's objects, surfaces, elements (static set C, dynamic set M),\n"
            "radiosity atlas size and host memory, then the GPU memory a solver of --method\n"
            "allocates, by category (created, not solved). Checks the file fully, like\n"
@@ -65,6 +71,40 @@ static int gpu_memory(const xrad_scene *scene, const char *method, const char *d
     return rc;
 }
 
+static bool is_photometry(const char *path)
+{
+    return cli_has_ext(path, ".ldt") || cli_has_ext(path, ".ies");
+}
+
+/* A luminaire file: what it holds and the flux it states against the
+ * integral of its intensities (a file whose two differ by more than its
+ * sampling is inconsistent, or states the lamps' flux, not its own). */
+static int photometry_info(const char *path)
+{
+    xrad_error err = {0};
+    xrad_photometry *p = NULL;
+    if (xrad_photometry_load(path, &p, &err))
+        return cli_report(&err);
+    xrad_photometry_info in;
+    xrad_photometry_get_info(p, &in);
+    printf("luminaire   %s\n", path);
+    printf("C-planes    %u%s\n", in.c_planes,
+           in.c_planes == 1 ? " (rotationally symmetric)" : " over the circle");
+    printf("gamma       %u angles, %g to %g degrees from straight down\n", in.gamma_angles,
+           in.gamma_min, in.gamma_max);
+    printf("intensity   max %.6g cd at C %g, gamma %g\n", in.max_intensity, in.max_c,
+           in.max_gamma);
+    printf("flux        %.6g lm integrated (%.6g W at 683 lm/W)", in.flux, in.flux / 683.0);
+    if (in.flux_stated > 0)
+        printf(", the file states %.6g lm (ratio %.4f)", in.flux_stated,
+               in.flux / in.flux_stated);
+    printf("\n");
+    if (in.tilt_ignored)
+        printf("note        TILT=INCLUDE: the lamp tilt factors are not applied\n");
+    xrad_photometry_destroy(&p);
+    return 0;
+}
+
 int cmd_info(int argc, char **argv)
 {
     cli_args a;
@@ -96,6 +136,8 @@ int cmd_info(int argc, char **argv)
         return cli_usage_error("info", "--method: '%s' is not a GPU method", method);
 
     xrad_error err = {0};
+    if (is_photometry(a.positional[0]))
+        return photometry_info(a.positional[0]);
     xrad_scene *scene = NULL;
     if (method_load_scene(a.positional[0], &m, &scene, &err))
         return cli_report(&err);

@@ -33,6 +33,12 @@
  * along the diagonal (thesis 4.1: the corner is a singularity). */
 #define SCENE_CORNER_OFFSET 0.01
 
+/* The whole of file `path` (at most max_bytes), NUL-terminated, in *out
+ * (malloc'd; free it) with its length in *size. Errors name the file: a
+ * file that is missing, unreadable or a directory is XRAD_ERROR_INPUT. */
+xrad_status scene_read_file(const char *path, size_t max_bytes, char **out, size_t *size,
+                            xrad_error *err);
+
 /* Samples along an edge of length `len` (m) at `density` elements per
  * metre: max(2, ceil(len * density) + 1), with a relative 1e-9 slack on the
  * product so that an edge of exactly k spacings gets k + 1 samples despite

@@ -56,12 +56,11 @@ xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err)
     return xrad_scene_load_with(path, NULL, out, err);
 }
 
-xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *desc,
-                                 xrad_scene **out, xrad_error *err)
+xrad_status scene_read_file(const char *path, size_t max_bytes, char **out, size_t *size,
+                            xrad_error *err)
 {
     *out = NULL;
-    if (scene_import_supported(path))
-        return load_model(path, NULL, 0, desc, out, err);
+    *size = 0;
     FILE *f = fopen(path, "rb");
     if (!f)
         /* A file that is not there or not ours to read is the caller's bad
@@ -73,16 +72,16 @@ xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *d
                              : XRAD_ERROR_SYSTEM,
                          "%s: cannot open: %s", path, strerror(errno));
     size_t cap = 1 << 16, len = 0;
-    char *buf = malloc(cap);
+    char *buf = malloc(cap + 1);
     xrad_status st = XRAD_OK;
     while (buf) {
         if (len == cap) {
-            if (cap >= SCENE_MAX_FILE_BYTES) {
-                st = xrad_fail(err, XRAD_ERROR_INPUT, "%s: larger than the %u byte limit", path,
-                               SCENE_MAX_FILE_BYTES);
+            if (cap >= max_bytes) {
+                st = xrad_fail(err, XRAD_ERROR_INPUT, "%s: larger than the %zu byte limit", path,
+                               max_bytes);
                 break;
             }
-            char *grown = realloc(buf, cap * 2);
+            char *grown = realloc(buf, cap * 2 + 1);
             if (!grown) {
                 free(buf);
                 buf = NULL;
@@ -105,6 +104,25 @@ xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *d
     fclose(f);
     if (!buf)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory reading it", path);
+    if (st) {
+        free(buf);
+        return st;
+    }
+    buf[len] = 0;
+    *out = buf;
+    *size = len;
+    return XRAD_OK;
+}
+
+xrad_status xrad_scene_load_with(const char *path, const xrad_scene_load_desc *desc,
+                                 xrad_scene **out, xrad_error *err)
+{
+    *out = NULL;
+    if (scene_import_supported(path))
+        return load_model(path, NULL, 0, desc, out, err);
+    char *buf;
+    size_t len;
+    xrad_status st = scene_read_file(path, SCENE_MAX_FILE_BYTES, &buf, &len, err);
     if (!st)
         st = xrad_scene_parse_with(buf, len, path, desc, out, err);
     free(buf);

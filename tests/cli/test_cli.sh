@@ -93,6 +93,15 @@ expect_text "$tmp/err" "dir.json: cannot read: Is a directory" "the directory is
 expect 1 "a directory as the model" -- "$xrad" info "$tmp/dir.glb" --no-gpu
 expect_text "$tmp/err" "dir.glb: cannot read: Is a directory" "the directory is named"
 
+# Luminaire files: what they hold; a bad one names its line and field.
+expect 0 "info of an EULUMDAT file" -- "$xrad" info "$root/tests/data/photometry/asymmetric.ldt"
+expect_text "$tmp/out" "the file states 1000 lm (ratio 0.99" "the LDT's flux against its integral"
+expect 0 "info of an IES file" -- "$xrad" info "$root/tests/data/photometry/asymmetric.ies"
+expect_text "$tmp/out" "gamma       19 angles, 0 to 90" "the IES file's gamma range"
+printf 'xrad\n1\n7\n' >"$tmp/bad.ldt"
+expect 1 "a bad EULUMDAT file" -- "$xrad" info "$tmp/bad.ldt"
+expect_text "$tmp/err" "bad.ldt: line 3 (Isym, symmetry indicator)" "the line and field are named"
+
 # unknown device: bad input, and the message lists what there is
 expect 1 "unknown device" -- "$xrad" devices --device no-such-device-xyz
 expect 0 "devices" -- "$xrad" devices
