@@ -132,10 +132,11 @@ xrad_status photometry_expand(photometry *p, const char *name, const char *field
                 if (same_angle(im[i], c_stored[s]))
                     found = s;
         if (found < 0) { /* cannot happen: c[k] is an image of a stored angle */
+            xrad_status st = xrad_fail(err, XRAD_ERROR_INPUT,
+                                       "%s: %s: no stored plane for C = %g", name, field, c[k]);
             free(c);
             free(cd);
-            return xrad_fail(err, XRAD_ERROR_INPUT, "%s: %s: no stored plane for C = %g", name,
-                             field, c[k]);
+            return st;
         }
         memcpy(cd + (size_t)k * ng, values + (size_t)found * ng, sizeof(double) * ng);
     }
