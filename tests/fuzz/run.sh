@@ -3,7 +3,8 @@
 # Usage: run.sh FUZZER NAME SECONDS OUTDIR
 #
 # Seeds: tests/fuzz/corpus/NAME/, tests/fuzz/regressions/NAME/ and, for the
-# scene parser, the shipped scenes/*.json, copied into OUTDIR/corpus (which
+# scene parser, the shipped scenes/*.json (for the photometric readers,
+# tests/data/photometry/*), copied into OUTDIR/corpus (which
 # also collects what libFuzzer adds; it is rebuilt on every run, so runs are
 # repeatable). Dictionary: tests/fuzz/NAME.dict when present; LeakSanitizer
 # suppressions: tests/fuzz/NAME.lsan when present. A crashing,
@@ -36,6 +37,7 @@ copy_seeds "" "$root/tests/fuzz/corpus/$name"/*
 copy_seeds "regression-" "$root/tests/fuzz/regressions/$name"/*
 case $name in
 scene) copy_seeds "shipped-" "$root"/scenes/*.json ;;
+photometry) copy_seeds "shipped-" "$root"/tests/data/photometry/* ;;
 esac
 
 dict=""
