@@ -75,9 +75,15 @@ static uint32_t images(double c, photometry_symmetry sym, double out[4])
     }
 }
 
-static int cmp_double(const void *a, const void *b)
+/* A plane of the table and the stored plane whose values it takes. */
+typedef struct plane_ref {
+    double c;   /* degrees, in [0, 360) */
+    uint32_t s; /* index into the stored planes */
+} plane_ref;
+
+static int cmp_plane(const void *a, const void *b)
 {
-    double x = *(const double *)a, y = *(const double *)b;
+    double x = ((const plane_ref *)a)->c, y = ((const plane_ref *)b)->c;
     return (x > y) - (x < y);
 }
 
@@ -90,56 +96,44 @@ xrad_status photometry_expand(photometry *p, const char *name, const char *field
     uint32_t ng = p->ng;
     if (sym == PHOTOMETRY_SYM_AXIAL)
         ns = 1; /* one plane is all there is to it */
-    /* Every stored angle's images, sorted, duplicates (and 360 = 0) once. */
-    double *c = malloc(sizeof(double) * 4 * ns);
-    if (!c)
+    /* Every stored plane at each of its images, each image remembering its
+     * stored plane; sorted, duplicates (and 360 = 0) once. */
+    plane_ref *r = malloc(sizeof(plane_ref) * 4 * ns);
+    if (!r)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory", name);
     uint32_t nc = 0;
     for (uint32_t s = 0; s < ns; s++) {
         if (!isfinite(c_stored[s]) || c_stored[s] < -360.0 || c_stored[s] > 720.0) {
-            free(c);
+            free(r);
             return xrad_fail(err, XRAD_ERROR_INPUT, "%s: %s: C angle %g out of range", name,
                              field, c_stored[s]);
         }
-        double im[4];
+        double im[4] = {0};
         uint32_t n = sym == PHOTOMETRY_SYM_AXIAL ? 1 : images(c_stored[s], sym, im);
-        if (sym == PHOTOMETRY_SYM_AXIAL)
-            im[0] = 0;
         for (uint32_t k = 0; k < n; k++)
-            c[nc++] = wrap360(im[k]);
+            r[nc++] = (plane_ref){wrap360(im[k]), s};
     }
-    qsort(c, nc, sizeof(double), cmp_double);
+    qsort(r, nc, sizeof(plane_ref), cmp_plane);
     uint32_t unique = 0;
     for (uint32_t k = 0; k < nc; k++)
-        if (unique == 0 || !same_angle(c[k], c[unique - 1]))
-            c[unique++] = c[k];
-    if (unique > 1 && same_angle(c[unique - 1], c[0]))
+        if (unique == 0 || !same_angle(r[k].c, r[unique - 1].c))
+            r[unique++] = r[k];
+    if (unique > 1 && same_angle(r[unique - 1].c, r[0].c))
         unique--;
     nc = unique;
+    double *c = malloc(sizeof(double) * nc);
     double *cd = malloc(sizeof(double) * (size_t)nc * ng);
-    if (!cd) {
+    if (!c || !cd) {
+        free(r);
         free(c);
+        free(cd);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory", name);
     }
-    /* Each plane of the table: the stored plane that it, or one of its
-     * images, is. */
     for (uint32_t k = 0; k < nc; k++) {
-        double im[4];
-        uint32_t n = images(c[k], sym, im);
-        int64_t found = sym == PHOTOMETRY_SYM_AXIAL ? 0 : -1;
-        for (uint32_t i = 0; i < n && found < 0; i++)
-            for (uint32_t s = 0; s < ns && found < 0; s++)
-                if (same_angle(im[i], c_stored[s]))
-                    found = s;
-        if (found < 0) { /* cannot happen: c[k] is an image of a stored angle */
-            xrad_status st = xrad_fail(err, XRAD_ERROR_INPUT,
-                                       "%s: %s: no stored plane for C = %g", name, field, c[k]);
-            free(c);
-            free(cd);
-            return st;
-        }
-        memcpy(cd + (size_t)k * ng, values + (size_t)found * ng, sizeof(double) * ng);
+        c[k] = r[k].c;
+        memcpy(cd + (size_t)k * ng, values + (size_t)r[k].s * ng, sizeof(double) * ng);
     }
+    free(r);
     p->nc = nc;
     p->c = c;
     p->cd = cd;
