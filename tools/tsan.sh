@@ -20,8 +20,10 @@ meson compile -C build-tsan tests/schedule/test_scheduler tools/xrad \
 TSAN_OPTIONS="halt_on_error=1 suppressions=$PWD/tools/tsan.supp"
 # 12 frames of cornell-lowq in the view test rather than 60 of
 # cornell-large: the threads meet from the first frames on, in any scene,
-# and CI's time is short.
+# and CI's time is short. XRAD_VIEW_THREADS=1: the windows alone, without
+# the renders the plain run compares them with (tests/cli/test_view.sh).
 XRAD_VIEW_FRAMES=12
 XRAD_VIEW_SCENE=cornell-lowq
-export TSAN_OPTIONS XRAD_VIEW_FRAMES XRAD_VIEW_SCENE
+XRAD_VIEW_THREADS=1
+export TSAN_OPTIONS XRAD_VIEW_FRAMES XRAD_VIEW_SCENE XRAD_VIEW_THREADS
 exec meson test -C build-tsan --no-rebuild --print-errorlogs scheduler view "$@"
