@@ -28,9 +28,12 @@
  *   - out-of-range input: XRAD_ERROR_INPUT naming the field, no crash.
  * fp16 against fp32 radiosity hemicubes: gather and cross run with both and
  * the test prints the error of each at the extremes (XRAD_TEST_VERBOSE=1
- * also prints every power check). */
+ * also prints every power check). The parts are errors, furnace, emission,
+ * scale, geometry and wall: --only or --except a comma-separated list of
+ * them. */
 #include <math.h>
 #include <stdarg.h>
+#include <string.h>
 
 #include "gpu/cmd.h"
 #include "scene/scene.h"
@@ -786,6 +789,29 @@ static void test_errors(xrad_context *ctx)
     xrad_scene_destroy(&scene);
 }
 
+/* The next name of the comma-separated list at *at: its length, *at moved
+ * past it and its comma; false at the end. */
+static bool next_name(const char **at, const char **name, size_t *len)
+{
+    if (!**at)
+        return false;
+    *name = *at;
+    *len = strcspn(*at, ",");
+    *at += *len + ((*at)[*len] != 0);
+    return true;
+}
+
+/* Whether `name` is one of the comma-separated `list`. */
+static bool listed(const char *list, const char *name)
+{
+    const char *at = list, *n;
+    size_t len;
+    while (next_name(&at, &n, &len))
+        if (len == strlen(name) && !strncmp(n, name, len))
+            return true;
+    return false;
+}
+
 int main(int argc, char **argv)
 {
     bool long_run = argc > 2 && !strcmp(argv[1], "--long");
@@ -796,8 +822,10 @@ int main(int argc, char **argv)
         test_many_frames(ctx, !strcmp(argv[2], "cross") ? XRAD_METHOD_CROSS
                                                         : XRAD_METHOD_INCREMENTAL);
     } else {
-        /* --only NAME runs one part, --except NAME all others (meson.build
-         * runs the furnace as a test of its own). */
+        /* --only NAMES runs those parts, --except NAMES all others, NAMES
+         * a comma-separated list (meson.build runs the furnace and the
+         * errors as tests of their own: the errors under the sanitizers,
+         * which leave the rest out). */
         const char *only = argc > 2 && !strcmp(argv[1], "--only") ? argv[2] : NULL;
         const char *except = argc > 2 && !strcmp(argv[1], "--except") ? argv[2] : NULL;
         static const struct {
@@ -806,15 +834,22 @@ int main(int argc, char **argv)
         } parts[] = {{"errors", test_errors},       {"furnace", test_furnace},
                      {"emission", test_emission_range}, {"scale", test_scale},
                      {"geometry", test_geometry},   {"wall", test_through_wall}};
-        size_t ran = 0;
-        for (size_t k = 0; k < sizeof(parts) / sizeof(parts[0]); k++)
-            if ((!only || !strcmp(only, parts[k].name)) &&
-                (!except || strcmp(except, parts[k].name))) {
+        const size_t part_count = sizeof(parts) / sizeof(parts[0]);
+        /* A misspelt name must not pass: --only would run nothing, --except
+         * everything. */
+        const char *at = only ? only : except ? except : "", *n;
+        size_t len;
+        while (next_name(&at, &n, &len)) {
+            size_t k = 0;
+            while (k < part_count && !(strlen(parts[k].name) == len &&
+                                       !strncmp(parts[k].name, n, len)))
+                k++;
+            CHECK(k < part_count, "no part named '%.*s'", (int)len, n);
+        }
+        for (size_t k = 0; k < part_count; k++)
+            if ((!only || listed(only, parts[k].name)) &&
+                (!except || !listed(except, parts[k].name)))
                 parts[k].run(ctx);
-                ran++;
-            }
-        /* A misspelt part runs nothing, which must not pass. */
-        CHECK(ran > 0, "no part named '%s'", only ? only : except);
     }
     gpu_test_end(&ctx);
     return test_finish();
