@@ -801,13 +801,19 @@ static bool next_name(const char **at, const char **name, size_t *len)
     return true;
 }
 
+/* Whether the `len` characters at n spell `name`. */
+static bool same_name(const char *n, size_t len, const char *name)
+{
+    return len == strlen(name) && !strncmp(n, name, len);
+}
+
 /* Whether `name` is one of the comma-separated `list`. */
 static bool listed(const char *list, const char *name)
 {
     const char *at = list, *n;
     size_t len;
     while (next_name(&at, &n, &len))
-        if (len == strlen(name) && !strncmp(n, name, len))
+        if (same_name(n, len, name))
             return true;
     return false;
 }
@@ -841,8 +847,7 @@ int main(int argc, char **argv)
         size_t len;
         while (next_name(&at, &n, &len)) {
             size_t k = 0;
-            while (k < part_count && !(strlen(parts[k].name) == len &&
-                                       !strncmp(parts[k].name, n, len)))
+            while (k < part_count && !same_name(n, len, parts[k].name))
                 k++;
             CHECK(k < part_count, "no part named '%.*s'", (int)len, n);
         }
