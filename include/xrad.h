@@ -115,10 +115,25 @@ XRAD_API xrad_status xrad_scene_builder_create(const xrad_scene_builder_desc *de
 /* Accepts NULL and *builder == NULL; sets *builder to NULL. */
 XRAD_API void xrad_scene_builder_destroy(xrad_scene_builder **builder);
 
+/* An image of linear RGB values (an albedo texture: sRGB decoded). Texel
+ * (x, y) is rgb[3 (y width + x) ...]; row 0 is the image's top, at texture
+ * coordinate v = 1 (the OpenGL convention OBJ uses and assimp gives glTF
+ * in), and coordinates outside [0, 1] repeat (glTF's default wrap). */
+typedef struct xrad_image_desc {
+    uint32_t width, height;
+    const float *rgb; /* 3 per texel, each in [0, 1] */
+} xrad_image_desc;
+
 typedef struct xrad_material_desc {
     const char *name;   /* unique among the materials */
     double albedo[3];   /* each channel in [0, 1) */
     double emission[3]; /* W/m^2 radiant exitance, each channel >= 0 */
+    /* NULL: none. Else the albedo is albedo x the texture (glTF's base
+     * colour factor x baseColorTexture): each element of a surface takes
+     * the texture's mean over its area, so that the solve reflects what
+     * the surface shows. Copied. Meshes with the material give `uvs`; a
+     * quad maps (0, 0) (1, 0) (1, 1) (0, 1) onto p0 p1 p2 p3. */
+    const xrad_image_desc *albedo_map;
 } xrad_material_desc;
 
 /* *index (may be NULL) receives the material's index for the surfaces. */
@@ -181,6 +196,8 @@ typedef struct xrad_mesh_desc {
     uint32_t material;
     double density;            /* elements per metre; 0: the object's */
     int keep_triangles;        /* do not join coplanar triangle pairs into quads */
+    const float *uvs;          /* 2 per vertex, texture coordinates (u, v); needed where a
+                                  triangle's material has an albedo_map, else ignored */
 } xrad_mesh_desc;
 
 /* Adds a triangle mesh to the current object. Two triangles that share an

@@ -614,8 +614,7 @@ void main()
     vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
     vec3 ne = elements[e].normal.xyz;
     uint id = se + 1u;
-    gpu_material mat = materials[sr.material];
-    vec3 rho = mat.albedo.rgb;
+    vec3 rho = elements[e].albedo.rgb;
     if (pc.phase == CROSS_RECONSTRUCT_M_DIRECT) {
         B[e].rgb += rho * lit_direct(x, ne, id);
         return;
@@ -658,7 +657,7 @@ void main()
     // A covered element keeps its emission alone: X takes away all it got
     // from C (B - E without the last X). Like any X it is replaced next time,
     // so the light returns when the object leaves.
-    vec3 X = hidden ? mat.emission.rgb - (B[e].rgb - inserted[e].rgb)
+    vec3 X = hidden ? materials[sr.material].emission.rgb - (B[e].rgb - inserted[e].rgb)
                     : rho * (gathered - blocked_direct(x, ne, id));
     vec3 dB = X - inserted[e].rgb;
     inserted[e] = vec4(X, 0.0);

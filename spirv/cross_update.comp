@@ -154,7 +154,7 @@ void main()
                  dot(n, cross(z, x)) * gathered[2u * pc.patch_count + first].rgb +
                  ct * gathered[first].rgb +
                  (1.0 - ct) * gathered[3u * pc.patch_count + first].rgb;
-        B[k] = vec4(m.emission.rgb + m.albedo.rgb * max(g, vec3(0.0)), 0.0);
+        B[k] = vec4(m.emission.rgb + elements[k].albedo.rgb * max(g, vec3(0.0)), 0.0);
         Bu[k] = vec4(0.0);
         return;
     }
@@ -168,6 +168,6 @@ void main()
     uint dx = cx > 1u ? 1u : 0u, dy = cy > 1u ? cx : 0u; // a single sample: itself
     vec3 g = mix(mix(gathered[p00].rgb, gathered[p00 + dx].rgb, f.x),
                  mix(gathered[p00 + dy].rgb, gathered[p00 + dy + dx].rgb, f.x), f.y);
-    B[k] = vec4(m.emission.rgb + m.albedo.rgb * g, 0.0);
+    B[k] = vec4(m.emission.rgb + elements[k].albedo.rgb * g, 0.0);
     Bu[k] = vec4(0.0);
 }

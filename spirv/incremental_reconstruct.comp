@@ -243,7 +243,7 @@ void receive(uint e)
     }
     if (all(equal(gathered, vec3(0.0))))
         return;
-    vec3 dB = materials[sr.material].albedo.rgb * gathered;
+    vec3 dB = elements[e].albedo.rgb * gathered;
     B[e].rgb += dB;
     Bu[e].rgb += dB;
 }

@@ -45,6 +45,8 @@ struct gpu_element {
     vec4 pos_area; /* world sample point (corner samples moved inward), area m^2 */
     vec4 normal;   /* world unit normal of its surface, w = 0 */
     uint surface, texel_x, texel_y, flags; /* GPU_ELEMENT_* */
+    vec4 albedo;   /* rgb the element reflects with: its material's, or its albedo map's
+                      mean over it (scene.h element_albedo); w = 0 */
 };
 
 /* The element's receiver point lies on another surface's front face, face

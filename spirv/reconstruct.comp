@@ -427,7 +427,7 @@ void main()
         return;
     if (count == 0u || all(equal(gathered, vec3(0.0))))
         return;
-    vec3 rho = materials[surfaces[se].material].albedo.rgb;
+    vec3 rho = elements[e].albedo.rgb;
     vec3 dB = rho * gathered;
     B[e].rgb += dB;
     Bu[e].rgb += dB;

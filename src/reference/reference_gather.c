@@ -177,9 +177,10 @@ static void solve(const gather *G, const xrad_reference_desc *d, double *b,
     uint32_t n = scene->element_count;
     for (uint32_t i = 0; i < n; i++) {
         const material *m = material_of(scene, scene->elements[i].surface);
-        b[3 * i + 0] = m->emission.x + m->albedo.x * G->direct[3 * i + 0];
-        b[3 * i + 1] = m->emission.y + m->albedo.y * G->direct[3 * i + 1];
-        b[3 * i + 2] = m->emission.z + m->albedo.z * G->direct[3 * i + 2];
+        vec3 rho = scene_element_albedo(scene, i);
+        b[3 * i + 0] = m->emission.x + rho.x * G->direct[3 * i + 0];
+        b[3 * i + 1] = m->emission.y + rho.y * G->direct[3 * i + 1];
+        b[3 * i + 2] = m->emission.z + rho.z * G->direct[3 * i + 2];
     }
     double residual = 0, reported = -1;
     uint32_t sweep = 0;
@@ -199,7 +200,8 @@ static void solve(const gather *G, const xrad_reference_desc *d, double *b,
                 r[1] += b[3 * j + 1] - e.y;
                 r[2] += b[3 * j + 2] - e.z;
             }
-            double albedo[3] = {m->albedo.x, m->albedo.y, m->albedo.z};
+            vec3 rho = scene_element_albedo(scene, i);
+            double albedo[3] = {rho.x, rho.y, rho.z};
             double emission[3] = {m->emission.x, m->emission.y, m->emission.z};
             for (int c = 0; c < 3; c++) {
                 double nb = emission[c] + albedo[c] * (G->direct[3 * i + c] + r[c] / G->rays);

@@ -456,8 +456,9 @@ static void gauss_seidel(const xrad_scene *scene, const float *F, const xrad_ref
                 gr += f * b[3 * j + 1];
                 bl += f * b[3 * j + 2];
             }
-            double nb[3] = {m->emission.x + m->albedo.x * r, m->emission.y + m->albedo.y * gr,
-                            m->emission.z + m->albedo.z * bl};
+            vec3 rho = scene_element_albedo(scene, i);
+            double nb[3] = {m->emission.x + rho.x * r, m->emission.y + rho.y * gr,
+                            m->emission.z + rho.z * bl};
             for (int c = 0; c < 3; c++) {
                 max_delta[c] = fmax(max_delta[c], fabs(nb[c] - b[3 * i + c]));
                 max_b[c] = fmax(max_b[c], fabs(nb[c]));

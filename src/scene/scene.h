@@ -163,6 +163,11 @@ struct xrad_scene {
     surface *surfaces;
     uint32_t element_count;
     element *elements;
+    /* Per element, where a surface's material has an albedo map (xrad.h
+     * xrad_material_desc.albedo_map): the material's albedo times the
+     * texture's mean over the element (scene_texture.c); NULL in a scene
+     * without one. Read it through scene_element_albedo. */
+    vec3 *element_albedo;
 
     uint32_t atlas_width, atlas_height;
     camera cam;
@@ -182,6 +187,15 @@ struct xrad_scene {
     uint32_t warning_count;
     char **warnings; /* xrad_scene_warning */
 };
+
+/* The albedo element `e` reflects with: its texture's mean where its
+ * material has an albedo map, else its material's. */
+static inline vec3 scene_element_albedo(const xrad_scene *scene, uint32_t e)
+{
+    if (scene->element_albedo)
+        return scene->element_albedo[e];
+    return scene->materials[scene->surfaces[scene->elements[e].surface].material].albedo;
+}
 
 /* The bilinear parametrisation of a surface, object space. */
 vec3 surface_point(const surface *s, double u, double v);

@@ -144,9 +144,7 @@ bool scene_triangle_setup(surface *s, const vec3 in[3], char *why, size_t why_le
     return true;
 }
 
-/* |dP/ds x dP/dt| of the bilinear patch at (s, t), signed along the normal
- * so that it is exactly bilinear in (s, t) for a planar quad. */
-static double jacobian(const surface *sf, double s, double t)
+double scene_surface_jacobian(const surface *sf, double s, double t)
 {
     vec3 ds = v3_lerp(v3_sub(sf->p[1], sf->p[0]), v3_sub(sf->p[2], sf->p[3]), t);
     vec3 dt = v3_lerp(v3_sub(sf->p[3], sf->p[0]), v3_sub(sf->p[2], sf->p[1]), s);
@@ -215,7 +213,8 @@ static void fill_surface_elements(const xrad_scene *scene, uint32_t si)
             /* The Jacobian is bilinear on a planar quad, so its value at the
              * clipped cell's midpoint times the cell's size is the exact
              * integral. */
-            e->area = jacobian(sf, 0.5 * (s0 + s1), 0.5 * (t0 + t1)) * (s1 - s0) * (t1 - t0);
+            e->area = scene_surface_jacobian(sf, 0.5 * (s0 + s1), 0.5 * (t0 + t1)) *
+                      (s1 - s0) * (t1 - t0);
             e->surface = si;
             e->texel_x = sf->tile_x + i;
             e->texel_y = sf->tile_y + j;

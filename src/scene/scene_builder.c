@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
+#include "scene/scene_texture.h"
 
 #define PI 3.14159265358979323846
 
@@ -27,6 +28,14 @@ struct xrad_scene_builder {
     double density_scale; /* every density given times this */
     uint64_t elements;    /* so far, for the limit */
     uint32_t material_cap, object_cap, surface_cap, mesh_cap;
+    /* Albedo maps (scene_texture.h): per material once one has a map
+     * (width 0: none), and the texture coordinates of the surfaces with
+     * one; NULL in a scene without. The elements' albedos come from them
+     * at finish, and they go. */
+    scene_texture *maps;
+    uint32_t map_cap;
+    scene_uv *uv;
+    uint32_t uv_cap;
     bool in_object;   /* objects[object_count - 1] takes surfaces */
     bool has_camera;
     bool failed;      /* a call failed: only destroy is left */
@@ -166,10 +175,22 @@ xrad_status xrad_scene_builder_create(const xrad_scene_builder_desc *desc,
     return XRAD_OK;
 }
 
+static void free_maps(xrad_scene_builder *b)
+{
+    for (uint32_t k = 0; k < b->map_cap; k++)
+        free(b->maps[k].rgb);
+    free(b->maps);
+    free(b->uv);
+    b->maps = NULL;
+    b->uv = NULL;
+    b->map_cap = b->uv_cap = 0;
+}
+
 void xrad_scene_builder_destroy(xrad_scene_builder **builder)
 {
     if (!builder || !*builder)
         return;
+    free_maps(*builder);
     xrad_scene_destroy(&(*builder)->sc);
     free(*builder);
     *builder = NULL;
@@ -226,6 +247,21 @@ static bool grow(void **array, uint32_t *cap, uint32_t n, size_t size)
     return true;
 }
 
+/* grow, the new entries zeroed. */
+static bool grow_zeroed(void **array, uint32_t *cap, uint32_t n, size_t size)
+{
+    uint32_t old = *cap;
+    if (!grow(array, cap, n, size))
+        return false;
+    memset((char *)*array + (size_t)old * size, 0, (size_t)(*cap - old) * size);
+    return true;
+}
+
+static bool mapped(const xrad_scene_builder *b, uint32_t mat)
+{
+    return mat < b->map_cap && b->maps[mat].width;
+}
+
 xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_material_desc *m,
                                             uint32_t *index, xrad_error *err)
 {
@@ -252,6 +288,17 @@ xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_ma
     if (!grow((void **)&sc->materials, &b->material_cap, sc->material_count + 1,
               sizeof(material)))
         return out_of_memory(b, err);
+    if (m->albedo_map) {
+        if (!grow_zeroed((void **)&b->maps, &b->map_cap, sc->material_count + 1,
+                         sizeof(scene_texture)))
+            return out_of_memory(b, err);
+        char w[SCENE_NAME_MAX + 64];
+        snprintf(w, sizeof(w), "%s: %s", b->file, where);
+        if ((st = scene_texture_copy(m->albedo_map, &b->maps[sc->material_count], w, err))) {
+            b->failed = true;
+            return st;
+        }
+    }
     material *mt = &sc->materials[sc->material_count];
     memset(mt, 0, sizeof(*mt));
     snprintf(mt->name, sizeof(mt->name), "%s", m->name);
@@ -506,6 +553,13 @@ static xrad_status finish_surface(xrad_scene_builder *b, xrad_error *err, const 
         return fail(b, err, where, count_field,
                     "surface '%s' (%u x %u) brings the scene to %llu elements, more than %u",
                     s->name, s->nu, s->nv, (unsigned long long)b->elements, SCENE_MAX_ELEMENTS);
+    if (mapped(b, s->material)) {
+        /* A quad's map lies on its parameters (xrad.h); a mesh's
+         * triangles set theirs after. */
+        if (!grow_zeroed((void **)&b->uv, &b->uv_cap, sc->surface_count + 1, sizeof(scene_uv)))
+            return out_of_memory(b, err);
+        b->uv[sc->surface_count] = (scene_uv){{{0, 0}, {1, 0}, {1, 1}, {0, 1}}};
+    }
     sc->surface_count++;
     return XRAD_OK;
 }
@@ -638,6 +692,47 @@ static bool join_pair(const xrad_mesh_desc *m, uint32_t t, int slot_t, uint32_t 
     return scene_quad_setup(&probe, q, why, sizeof(why));
 }
 
+static void mesh_uv(const xrad_mesh_desc *m, uint32_t v, double out[2])
+{
+    out[0] = m->uvs[2 * v];
+    out[1] = m->uvs[2 * v + 1];
+}
+
+/* Whether triangles t and u (join_pair's) map the texture by one affine
+ * map of the plane: then the quad's bilinear coordinates are exact
+ * (scene_texture.h), else the pair stays two triangles. u's corners are
+ * predicted from t's map (barycentric coordinates in t's plane). */
+static bool uv_affine(const xrad_mesh_desc *m, uint32_t t, uint32_t u)
+{
+    const uint32_t *it = &m->indices[3 * t], *iu = &m->indices[3 * u];
+    vec3 p0 = mesh_point(m, it[0]);
+    vec3 e1 = v3_sub(mesh_point(m, it[1]), p0), e2 = v3_sub(mesh_point(m, it[2]), p0);
+    double d11 = v3_dot(e1, e1), d12 = v3_dot(e1, e2), d22 = v3_dot(e2, e2);
+    double det = d11 * d22 - d12 * d12;
+    if (!(det > 0))
+        return false;
+    double w[3][2];
+    for (int k = 0; k < 3; k++)
+        mesh_uv(m, it[k], w[k]);
+    double extent = 0;
+    for (int k = 0; k < 3; k++)
+        for (int c = 0; c < 2; c++)
+            extent = fmax(extent, fabs(w[k][c] - w[0][c]));
+    for (int k = 0; k < 3; k++) {
+        vec3 d = v3_sub(mesh_point(m, iu[k]), p0);
+        double r1 = v3_dot(d, e1), r2 = v3_dot(d, e2);
+        double b1 = (d22 * r1 - d12 * r2) / det, b2 = (d11 * r2 - d12 * r1) / det;
+        double have[2];
+        mesh_uv(m, iu[k], have);
+        for (int c = 0; c < 2; c++) {
+            double want = w[0][c] + b1 * (w[1][c] - w[0][c]) + b2 * (w[2][c] - w[0][c]);
+            if (!(fabs(have[c] - want) <= 1e-5 * fmax(extent, 1e-3)))
+                return false;
+        }
+    }
+    return true;
+}
+
 /* The quad slots of join_pair's corners: t's corner slot_t is c (q[1]),
  * slot_t + 1 is b (q[3]), slot_t + 2 is a (q[0]); u's corner slot_u is b
  * (its edge b -> c), slot_u + 1 is c, slot_u + 2 is d (q[2]). The quad
@@ -650,6 +745,20 @@ static void join_slots(int slot_t, int slot_u, uint8_t st[3], uint8_t su[3])
     su[slot_u] = 3;
     su[(slot_u + 1) % 3] = 1;
     su[(slot_u + 2) % 3] = 2;
+}
+
+/* Surface si's corner `slot` has mesh vertex v's texture coordinates. */
+static void set_uv(xrad_scene_builder *b, const xrad_mesh_desc *m, uint32_t si, int slot,
+                   uint32_t v)
+{
+    b->uv[si].uv[slot][0] = m->uvs[2 * v];
+    b->uv[si].uv[slot][1] = m->uvs[2 * v + 1];
+}
+
+/* The corner k of a triangle that became the apex, slot 2 (= slot 3). */
+static int went_apex(const mesh_triangle *w)
+{
+    return w->slot[0] == 2 ? 0 : w->slot[1] == 2 ? 1 : 2;
 }
 
 xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_desc *m,
@@ -697,7 +806,19 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
             return fail(b, err, where, m->materials ? "materials" : "material",
                         "triangle %u: material %u does not exist (%u materials)", t, mat,
                         b->sc->material_count);
+        if (mapped(b, mat) && !m->uvs)
+            return fail(b, err, where, "uvs",
+                        "missing: triangle %u's material '%s' has an albedo map", t,
+                        b->sc->materials[mat].name);
     }
+    for (uint32_t v = 0; m->uvs && v < m->vertex_count; v++)
+        if (!(isfinite(m->uvs[2 * v]) && isfinite(m->uvs[2 * v + 1]) &&
+              fabs(m->uvs[2 * v]) <= 1e6 && fabs(m->uvs[2 * v + 1]) <= 1e6)) {
+            char field[48];
+            snprintf(field, sizeof(field), "uvs[%u]", v);
+            return fail(b, err, where, field, "(%g, %g) is not finite or beyond 1e6",
+                        m->uvs[2 * v], m->uvs[2 * v + 1]);
+        }
     double density;
     if ((st = scene_builder_surface_density(b, where, m->density, &density, err)))
         return st;
@@ -778,6 +899,8 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
             vec3 q[4];
             if (!join_pair(m, t, x->slot, u, y->slot, q))
                 continue;
+            if (mapped(b, m->materials ? m->materials[t] : m->material) && !uv_affine(m, t, u))
+                continue;
             partner[t] = u;
             partner[u] = t;
             partner_slot[t] = (int8_t)x->slot;
@@ -816,6 +939,11 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
                 b->sc->surfaces[si].closed = closed;
                 went[t].surface = went[u].surface = si;
                 join_slots(partner_slot[t], partner_slot[u], went[t].slot, went[u].slot);
+                if (mapped(b, mat))
+                    for (int k = 0; k < 3; k++) {
+                        set_uv(b, m, si, went[t].slot[k], m->indices[3 * t + k]);
+                        set_uv(b, m, si, went[u].slot[k], m->indices[3 * u + k]);
+                    }
             }
             continue;
         }
@@ -843,6 +971,11 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
                 if (!memcmp(&s->p[j], &p[k], sizeof(vec3)))
                     went[t].slot[k] = j;
         st = finish_surface(b, err, sw, "density", density, NULL);
+        if (!st && mapped(b, mat)) {
+            for (int k = 0; k < 3; k++)
+                set_uv(b, m, went[t].surface, went[t].slot[k], m->indices[3 * t + k]);
+            set_uv(b, m, went[t].surface, 3, m->indices[3 * t + went_apex(&went[t])]);
+        }
     }
     if (!st && !grow((void **)&b->sc->meshes, &b->mesh_cap, b->sc->mesh_count + 1,
                      sizeof(scene_mesh)))
@@ -981,10 +1114,12 @@ xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, x
     if (!b->has_camera)
         default_camera(sc);
     warn_unlit(b);
-    if ((st = scene_build_elements(sc, err))) {
+    if ((st = scene_build_elements(sc, err)) ||
+        (b->uv && (st = scene_texture_albedos(sc, b->maps, b->map_cap, b->uv, err)))) {
         b->failed = true;
         return st;
     }
+    free_maps(b);
     *out = sc;
     b->sc = NULL;
     return XRAD_OK;

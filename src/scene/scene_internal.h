@@ -63,6 +63,10 @@ void scene_quad_edge_lengths(const surface *s, double *lu, double *lv);
  * failure returns false and writes the reason to why. */
 bool scene_triangle_setup(surface *s, const vec3 in[3], char *why, size_t why_len);
 
+/* |dP/ds x dP/dt| of surface sf's bilinear parametrisation at (s, t),
+ * signed along its normal (exactly bilinear in s, t for a planar quad). */
+double scene_surface_jacobian(const surface *sf, double s, double t);
+
 /* Names are checked for duplicates through sorted lists, so that large
  * scenes cost n log n, not n^2. */
 typedef struct name_ref {

@@ -951,6 +951,7 @@ void xrad_scene_destroy(xrad_scene **scene)
     free(sc->materials);
     free(sc->surfaces);
     free(sc->elements);
+    free(sc->element_albedo);
     for (uint32_t k = 0; k < sc->mesh_count; k++)
         free(sc->meshes[k].triangles);
     free(sc->meshes);

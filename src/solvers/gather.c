@@ -279,7 +279,8 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
     for (uint32_t e = 0; e < n; e++) {
         const material *m = &scene->materials[scene->surfaces[scene->elements[e].surface].material];
         const double em[3] = {m->emission.x, m->emission.y, m->emission.z};
-        const double al[3] = {m->albedo.x, m->albedo.y, m->albedo.z};
+        const vec3 rho = scene_element_albedo(scene, e);
+        const double al[3] = {rho.x, rho.y, rho.z};
         for (int c = 0; c < 3; c++) {
             g->emission[3 * e + c] = em[c];
             g->albedo[3 * e + c] = al[c];

@@ -82,6 +82,7 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
             ge->surface = s;
             ge->texel_x = el->texel_x;
             ge->texel_y = el->texel_y;
+            ge->albedo = gpu_vec4(scene_element_albedo(scene, sf->first_element + e), 0);
         }
     }
     /* A vertex is posed as the corner it is at (hemicube_clusters.h), so
@@ -515,9 +516,8 @@ static void add_ambient(const xrad_scene *scene, const uint8_t *buried, const ve
     for (uint32_t i = 0; i < n; i++) {
         if (buried[i])
             continue;
-        const element *el = &scene->elements[i];
-        vec3 al = scene->materials[scene->surfaces[el->surface].material].albedo;
-        double a = el->area;
+        vec3 al = scene_element_albedo(scene, i);
+        double a = scene->elements[i].area;
         area += a;
         u[0] += a * bu[i].x;
         u[1] += a * bu[i].y;
@@ -534,8 +534,7 @@ static void add_ambient(const xrad_scene *scene, const uint8_t *buried, const ve
     for (uint32_t i = 0; i < n; i++) {
         if (buried[i])
             continue;
-        const element *el = &scene->elements[i];
-        vec3 al = scene->materials[scene->surfaces[el->surface].material].albedo;
+        vec3 al = scene_element_albedo(scene, i);
         b[i].x += (float)(al.x * amb[0]);
         b[i].y += (float)(al.y * amb[1]);
         b[i].z += (float)(al.z * amb[2]);

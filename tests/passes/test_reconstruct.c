@@ -198,6 +198,8 @@ static int rig_create(xrad_context *ctx, uint32_t max_shooters, rig *r)
             ge[e].pos_area = (vec4){(float)p.x, (float)p.y, (float)p.z, a};
             ge[e].normal = (vec4){(float)n.x, (float)n.y, (float)n.z, 0};
             ge[e].surface = s;
+            vec3 rho = scene_element_albedo(sc, e);
+            ge[e].albedo = (vec4){(float)rho.x, (float)rho.y, (float)rho.z, 0};
         }
     }
     quad_bvh bvh = {0};

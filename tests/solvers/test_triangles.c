@@ -146,7 +146,7 @@ static xrad_scene *furnace_scene(uint32_t grid)
         &b, &err);
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){"m", {0.5, 0.5, 0.5}, {1, 1, 1}}, &m, &err);
+            b, &(xrad_material_desc){.name = "m", .albedo = {0.5, 0.5, 0.5}, .emission = {1, 1, 1}}, &m, &err);
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "box"}, &err);
     for (int k = 0; k < 6 && !st; k++)
@@ -176,10 +176,10 @@ static xrad_scene *lit_room(int triangles)
         &b, &err);
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){"wall", {0.6, 0.6, 0.6}, {0, 0, 0}}, &wall, &err);
+            b, &(xrad_material_desc){.name = "wall", .albedo = {0.6, 0.6, 0.6}, .emission = {0, 0, 0}}, &wall, &err);
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){"lamp", {0.1, 0.1, 0.1}, {10, 10, 10}}, &lamp, &err);
+            b, &(xrad_material_desc){.name = "lamp", .albedo = {0.1, 0.1, 0.1}, .emission = {10, 10, 10}}, &lamp, &err);
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "room"}, &err);
     for (int k = 0; k < 6 && !st; k++)

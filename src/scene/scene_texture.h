@@ -1,0 +1,46 @@
+/*
+ * Albedo maps in the solve (issue 18.1; Wallner 3.1 gives each element the
+ * texture under it): the builder keeps the materials' maps and the
+ * surfaces' texture coordinates, and at finish each element of a mapped
+ * surface takes the map's mean over its area (scene.h element_albedo).
+ */
+#ifndef XRAD_SCENE_TEXTURE_H
+#define XRAD_SCENE_TEXTURE_H
+
+#include <stdint.h>
+
+#include "core/error.h"
+#include "scene/scene.h"
+
+/* A copy of xrad_image_desc: linear RGB, row 0 at v = 1. width 0: none. */
+typedef struct scene_texture {
+    uint32_t width, height;
+    float *rgb;
+} scene_texture;
+
+/* The texture coordinates of a surface's corners p[0..3] (p[3] = p[2] for
+ * a triangle: uv[3] = uv[2]); within the surface they follow its bilinear
+ * parametrisation, exact where the coordinates are affine on the plane. */
+typedef struct scene_uv {
+    float uv[4][2];
+} scene_uv;
+
+/* Checks `d` (sizes, finite texels in [0, 1]) and copies it into *out;
+ * `where` and the field name the map in errors. */
+xrad_status scene_texture_copy(const xrad_image_desc *d, scene_texture *out, const char *where,
+                               xrad_error *err);
+
+/* The map's area-weighted mean over the cell [s0, s1] x [t0, t1] of
+ * surface `sf` (corner coordinates `uv`): the texels as constant squares,
+ * the area element |dP/ds x dP/dt| as weight. */
+vec3 scene_texture_mean(const scene_texture *tex, const surface *sf, const scene_uv *uv, double s0,
+                        double s1, double t0, double t1);
+
+/* Fills scene->element_albedo (allocating it) from maps[material] (for
+ * material < map_count; width 0: none) and uv[surface] for every element
+ * whose material has a map, the material's albedo for the rest. The
+ * elements must be built. */
+xrad_status scene_texture_albedos(xrad_scene *scene, const scene_texture *maps,
+                                  uint32_t map_count, const scene_uv *uv, xrad_error *err);
+
+#endif
