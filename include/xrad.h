@@ -237,6 +237,8 @@ typedef struct xrad_scene_info {
     uint32_t triangles;                 /* surfaces that are triangles (the rest are quads) */
     uint32_t skipped_triangles;         /* zero-area mesh triangles left out */
     uint32_t meshes;                    /* triangle meshes (xrad_scene_get_mesh) */
+    uint32_t albedo_maps;               /* materials with an albedo map */
+    uint32_t mapped_elements;           /* elements whose albedo comes from one */
 } xrad_scene_info;
 
 XRAD_API void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info);

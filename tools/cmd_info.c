@@ -152,7 +152,11 @@ int cmd_info(int argc, char **argv)
                in.surfaces, in.surfaces - in.triangles, in.triangles, in.skipped_triangles);
     else
         printf("surfaces    %u\n", in.surfaces);
-    printf("materials   %u\n", in.materials);
+    if (in.albedo_maps)
+        printf("materials   %u (%u with an albedo map, over %u elements)\n", in.materials,
+               in.albedo_maps, in.mapped_elements);
+    else
+        printf("materials   %u\n", in.materials);
     printf("elements    %u (static %u, dynamic %u)\n", in.elements, in.static_elements,
            in.dynamic_elements);
     printf("area        %.6g m^2\n", in.area);

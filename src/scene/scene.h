@@ -168,6 +168,7 @@ struct xrad_scene {
      * texture's mean over the element (scene_texture.c); NULL in a scene
      * without one. Read it through scene_element_albedo. */
     vec3 *element_albedo;
+    uint32_t albedo_maps, mapped_elements; /* xrad_scene_info */
 
     uint32_t atlas_width, atlas_height;
     camera cam;

@@ -2,7 +2,9 @@
  * MTL, PLY -> the scene builder. Every mesh instance of the node tree
  * becomes a triangle mesh of the current object, its positions taken
  * through the node's transform (metres, glTF's unit); materials give
- * albedo and emission; the first camera (or the one named) the scene's.
+ * albedo (the base colour factor times its texture, an albedo map with the
+ * mesh's texture coordinates: scene_texture.h) and emission; the first
+ * camera (or the one named) the scene's.
  * What a file has that xrad does not model is listed as warnings, one
  * line per kind, never dropped silently (scenes/README.md "Model files").
  * Bad input is refused naming the file and the node and mesh at fault;
@@ -27,6 +29,7 @@
 #include "core/error.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
+#include "scene/scene_texture.h"
 
 #define PI 3.14159265358979323846
 
@@ -57,13 +60,17 @@ typedef struct import_ctx {
     const scene_import_desc *desc;
     xrad_error *err;
     uint32_t *material_index; /* per assimp material: builder index, or UINT32_MAX */
+    uint32_t *map_channel;    /* per assimp material: texture coordinate set of its albedo
+                                 map, or UINT32_MAX (none) */
+    bool files;               /* maps may be read from files beside the model */
     uint32_t instances;       /* mesh instances added */
     uint32_t triangles;
     uint32_t surfaces_before; /* the builder's surfaces before this file */
     /* What is ignored, counted for the warnings, and where it was first. */
     uint32_t textured, metallic, transmissive, clamped, skinned, morphed, non_triangle;
-    uint32_t zero_area;
+    uint32_t zero_area, maps, map_failed;
     char clamped_name[64];
+    char map_failed_why[320];
     char non_triangle_where[160], zero_area_where[160];
 } import_ctx;
 
@@ -94,6 +101,68 @@ static const char *clean(const char *in, char *out, size_t len)
         out[n] = (unsigned char)in[n] < 0x20 || in[n] == 0x7f ? '?' : in[n];
     out[n] = '\0';
     return out;
+}
+
+/* The base colour texture `tpath` of material `mname` (glTF
+ * baseColorTexture, OBJ map_Kd) decoded into *rgb: embedded ("*N", a
+ * .glb's images) or a file beside the model. */
+static xrad_status load_map(import_ctx *c, const char *tpath, const char *mname, float **rgb,
+                            uint32_t *w, uint32_t *h)
+{
+    char what[700];
+    snprintf(what, sizeof(what), "%s: material '%s': texture '%.200s'", c->path, mname, tpath);
+    if (tpath[0] == '*') {
+        char *end;
+        unsigned long k = strtoul(tpath + 1, &end, 10);
+        if (*end || end == tpath + 1 || k >= c->ai->mNumTextures || !c->ai->mTextures[k])
+            return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: no such embedded image (%u)", what,
+                             c->ai->mNumTextures);
+        const struct aiTexture *t = c->ai->mTextures[k];
+        if (t->mHeight == 0) /* compressed: mWidth bytes of a PNG, a JPEG */
+            return scene_texture_decode(t->pcData, t->mWidth, true, what, rgb, w, h, c->err);
+        if (t->mWidth > SCENE_TEXTURE_MAX_SIDE || t->mHeight > SCENE_TEXTURE_MAX_SIDE)
+            return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: %u x %u texels, more than %u on a "
+                             "side", what, t->mWidth, t->mHeight, SCENE_TEXTURE_MAX_SIDE);
+        size_t n = (size_t)t->mWidth * t->mHeight;
+        float *out = malloc(3 * n * sizeof(float));
+        uint8_t *v = malloc(3 * n);
+        if (!out || !v) {
+            free(out);
+            free(v);
+            return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", what);
+        }
+        /* Raw BGRA8, sRGB encoded. */
+        for (size_t p = 0; p < n; p++) {
+            v[3 * p] = t->pcData[p].r;
+            v[3 * p + 1] = t->pcData[p].g;
+            v[3 * p + 2] = t->pcData[p].b;
+        }
+        scene_texture_from_8bit(v, 3 * n, true, out);
+        free(v);
+        *rgb = out;
+        *w = t->mWidth;
+        *h = t->mHeight;
+        return XRAD_OK;
+    }
+    if (!c->files)
+        return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: a file, not read for a model in memory",
+                         what);
+    /* Relative to the model's folder (glTF URIs, MTL paths). */
+    char full[1024];
+    const char *slash = strrchr(c->path, '/');
+    if (tpath[0] == '/' || !slash)
+        snprintf(full, sizeof(full), "%s", tpath);
+    else
+        snprintf(full, sizeof(full), "%.*s/%s", (int)(slash - c->path), c->path, tpath);
+    char *data = NULL;
+    size_t size = 0;
+    xrad_status st = scene_read_file(full, 256u << 20, &data, &size, c->err);
+    if (!st)
+        st = scene_texture_decode(data, size, true, what, rgb, w, h, c->err);
+    else
+        xrad_error_prefix(c->err, "%s", what);
+    free(data);
+    return st;
 }
 
 /* Builder index of assimp material m, added on first use. */
@@ -155,10 +224,47 @@ static xrad_status import_material(import_ctx *c, uint32_t m, uint32_t *out)
         if (!(emission[k] >= 0))
             emission[k] = 0;
 
+    /* The base colour texture becomes an albedo map (glTF puts it under
+     * both BASE_COLOR and DIFFUSE); one that cannot be read leaves the
+     * factor alone, with a warning. */
+    enum aiTextureType base_type = aiGetMaterialTextureCount(am, aiTextureType_BASE_COLOR)
+                                       ? aiTextureType_BASE_COLOR
+                                       : aiTextureType_DIFFUSE;
+    struct aiString tpath = {0};
+    unsigned int channel = 0;
+    float *texels = NULL;
+    xrad_image_desc map = {0};
+    if (c->desc->material == UINT32_MAX && aiGetMaterialTextureCount(am, base_type) &&
+        aiGetMaterialTexture(am, base_type, 0, &tpath, NULL, &channel, NULL, NULL, NULL, NULL) ==
+            aiReturn_SUCCESS) {
+        xrad_error why = {0};
+        xrad_error *keep = c->err;
+        c->err = &why;
+        xrad_status ms = channel < AI_MAX_NUMBER_OF_TEXTURECOORDS
+                             ? load_map(c, tpath.data, mname, &texels, &map.width, &map.height)
+                             : xrad_fail(&why, XRAD_ERROR_INPUT,
+                                         "%s: material '%s': texture coordinate set %u", c->path,
+                                         mname, channel);
+        c->err = keep;
+        if (ms == XRAD_ERROR_SYSTEM) {
+            *c->err = why;
+            return ms;
+        }
+        if (ms) {
+            if (c->map_failed++ == 0)
+                snprintf(c->map_failed_why, sizeof(c->map_failed_why), "%s", why.message);
+        } else {
+            map.rgb = texels;
+            c->map_channel[m] = channel;
+            c->maps++;
+        }
+    }
+    /* Textures xrad does not model (normal, emissive, metal-roughness,
+     * occlusion), counted for a warning. */
     static const enum aiTextureType textured[] = {
-        aiTextureType_DIFFUSE,  aiTextureType_BASE_COLOR, aiTextureType_EMISSIVE,
-        aiTextureType_NORMALS,  aiTextureType_EMISSION_COLOR, aiTextureType_METALNESS,
-        aiTextureType_DIFFUSE_ROUGHNESS, aiTextureType_AMBIENT_OCCLUSION, aiTextureType_UNKNOWN};
+        aiTextureType_EMISSIVE, aiTextureType_NORMALS, aiTextureType_EMISSION_COLOR,
+        aiTextureType_METALNESS, aiTextureType_DIFFUSE_ROUGHNESS,
+        aiTextureType_AMBIENT_OCCLUSION, aiTextureType_UNKNOWN};
     for (size_t k = 0; k < sizeof(textured) / sizeof(textured[0]); k++)
         if (aiGetMaterialTextureCount(am, textured[k])) {
             c->textured++;
@@ -174,10 +280,11 @@ static xrad_status import_material(import_ctx *c, uint32_t m, uint32_t *out)
         transmission > 0)
         c->transmissive++;
 
-    xrad_material_desc md = {.name = mname};
+    xrad_material_desc md = {.name = mname, .albedo_map = map.rgb ? &map : NULL};
     memcpy(md.albedo, albedo, sizeof(albedo));
     memcpy(md.emission, emission, sizeof(emission));
     xrad_status st = xrad_scene_builder_add_material(c->b, &md, out, c->err);
+    free(texels);
     if (!st)
         c->material_index[m] = *out;
     return st;
@@ -320,8 +427,26 @@ static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
         idx[3 * t + 2] = face->mIndices[mirror ? 1 : 2];
         t++;
     }
-    if (!st && mat == UINT32_MAX)
+    bool file_material = mat == UINT32_MAX;
+    if (!st && file_material)
         st = import_material(c, mesh->mMaterialIndex, &mat);
+    /* The mapped material's texture coordinates, v up as the builder
+     * takes them (assimp turns glTF's). */
+    float *uvs = NULL;
+    uint32_t channel = file_material ? c->map_channel[mesh->mMaterialIndex] : UINT32_MAX;
+    if (!st && channel != UINT32_MAX) {
+        if (!mesh->mTextureCoords[channel])
+            st = xrad_fail(c->err, XRAD_ERROR_INPUT,
+                           "%s: %s: its material's base colour texture reads texture "
+                           "coordinate set %u, which the mesh does not have",
+                           c->path, where, channel);
+        else if (!(uvs = malloc(2ull * mesh->mNumVertices * sizeof(float))))
+            st = xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", c->path);
+        for (uint32_t v = 0; uvs && v < mesh->mNumVertices; v++) {
+            uvs[2 * v] = mesh->mTextureCoords[channel][v].x;
+            uvs[2 * v + 1] = mesh->mTextureCoords[channel][v].y;
+        }
+    }
     char name[SCENE_NAME_MAX];
     char own[41];
     const char *base = c->desc->name           ? c->desc->name
@@ -334,7 +459,8 @@ static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
                          .indices = idx,
                          .triangle_count = nt,
                          .material = mat,
-                         .density = c->desc->density};
+                         .density = c->desc->density,
+                         .uvs = uvs};
     xrad_scene *sc = scene_builder_scene(c->b);
     uint32_t skipped = sc ? sc->skipped_triangles : 0;
     if (!st) {
@@ -352,6 +478,7 @@ static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
     c->triangles += nt;
     free(pos);
     free(idx);
+    free(uvs);
     return st;
 }
 
@@ -878,14 +1005,15 @@ static xrad_status import_scene(xrad_scene_builder *b, const char *path, struct 
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: %s%s", path,
                          refused ? "" : "cannot import: ", why);
     xrad_scene *sc = scene_builder_scene(b);
-    import_ctx c = {.b = b, .path = path, .ai = ai, .desc = desc, .err = err,
+    import_ctx c = {.b = b, .path = path, .ai = ai, .desc = desc, .err = err, .files = !io,
                     .surfaces_before = sc ? sc->surface_count : 0};
     c.material_index = malloc((ai->mNumMaterials + 1) * sizeof(uint32_t));
+    c.map_channel = malloc((ai->mNumMaterials + 1) * sizeof(uint32_t));
     xrad_status st = XRAD_OK;
-    if (!c.material_index)
+    if (!c.material_index || !c.map_channel)
         st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory", path);
     for (uint32_t m = 0; !st && m < ai->mNumMaterials; m++)
-        c.material_index[m] = UINT32_MAX;
+        c.material_index[m] = c.map_channel[m] = UINT32_MAX;
 
     struct aiMatrix4x4 identity = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, parent;
     const struct aiNode *root = ai->mRootNode;
@@ -911,8 +1039,11 @@ static xrad_status import_scene(xrad_scene_builder *b, const char *path, struct 
         st = take_camera(&c);
     if (!st) {
         if (c.textured)
-            scene_builder_warn(b, "%s: %u material(s) with textures: ignored (the colour "
-                               "factors alone are used)", path, c.textured);
+            scene_builder_warn(b, "%s: %u material(s) with normal, emissive, metal-roughness or "
+                               "occlusion textures: ignored", path, c.textured);
+        if (c.map_failed)
+            scene_builder_warn(b, "%s: %u base colour texture(s) not read, the colour factor "
+                               "used alone (first: %s)", path, c.map_failed, c.map_failed_why);
         if (c.metallic)
             scene_builder_warn(b, "%s: %u material(s) metallic: ignored (diffuse only)", path,
                                c.metallic);
@@ -949,6 +1080,7 @@ static xrad_status import_scene(xrad_scene_builder *b, const char *path, struct 
             scene_builder_warn(b, "%s: assimp: %u more message(s)", path, log.more);
     }
     free(c.material_index);
+    free(c.map_channel);
     aiReleaseImport(ai);
     return st;
 }

@@ -7,23 +7,22 @@
 
 #include "scene/scene_internal.h"
 
-/* Largest map side: 16K texels (glTF files carry up to 8K). */
-#define TEXTURE_MAX_SIDE 16384u
-/* Samples per cell side: 8 per texel the coordinates cross and 2 more
- * (the mean of a texture of squares by the midpoint rule: 0.3% off on a
- * triangle across three texels, test_textures), at most this. */
+/* Samples per cell side: 8 per texel the coordinates cross and 2 more,
+ * an even count, so that no sample falls on a seam through the cell's
+ * middle (the mean of a texture of squares by the midpoint rule: 0.05% off
+ * on a triangle across three texels, test_textures), at most this. */
 #define TEXTURE_MAX_SAMPLES 48
 
 xrad_status scene_texture_copy(const xrad_image_desc *d, scene_texture *out, const char *where,
                                xrad_error *err)
 {
     memset(out, 0, sizeof(*out));
-    if (!d->rgb || d->width == 0 || d->height == 0 || d->width > TEXTURE_MAX_SIDE ||
-        d->height > TEXTURE_MAX_SIDE)
+    if (!d->rgb || d->width == 0 || d->height == 0 || d->width > SCENE_TEXTURE_MAX_SIDE ||
+        d->height > SCENE_TEXTURE_MAX_SIDE)
         return xrad_fail(err, XRAD_ERROR_INPUT,
                          "%salbedo_map: %u x %u texels%s: must be 1 to %u on a side with texels",
                          where, d->width, d->height, d->rgb ? "" : " (rgb NULL)",
-                         TEXTURE_MAX_SIDE);
+                         SCENE_TEXTURE_MAX_SIDE);
     size_t n = (size_t)d->width * d->height * 3;
     for (size_t k = 0; k < n; k++)
         if (!(d->rgb[k] >= 0 && d->rgb[k] <= 1))
@@ -60,8 +59,8 @@ static uint32_t wrap(double x, uint32_t n)
 /* Samples along one side of a cell whose coordinates change by `texels`. */
 static int samples_for(double texels)
 {
-    double n = ceil(8 * texels) + 2;
-    return n < 2 ? 2 : n > TEXTURE_MAX_SAMPLES ? TEXTURE_MAX_SAMPLES : (int)n;
+    double n = 2 * ceil(4 * texels + 1);
+    return n > TEXTURE_MAX_SAMPLES ? TEXTURE_MAX_SAMPLES : (int)n;
 }
 
 vec3 scene_texture_mean(const scene_texture *tex, const surface *sf, const scene_uv *uv, double s0,
@@ -114,6 +113,8 @@ xrad_status scene_texture_albedos(xrad_scene *scene, const scene_texture *maps,
     if (!scene->element_albedo)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for %u element albedos",
                          scene->path, scene->element_count);
+    for (uint32_t k = 0; k < map_count && k < scene->material_count; k++)
+        scene->albedo_maps += maps[k].width > 0;
     for (uint32_t si = 0; si < scene->surface_count; si++) {
         const surface *sf = &scene->surfaces[si];
         const material *m = &scene->materials[sf->material];
@@ -124,6 +125,7 @@ xrad_status scene_texture_albedos(xrad_scene *scene, const scene_texture *maps,
                 scene->element_albedo[e] = m->albedo;
                 continue;
             }
+            scene->mapped_elements++;
             double s0, s1, t0, t1;
             scene_param_range(k % sf->nu, k % sf->nu, sf->nu, &s0, &s1);
             scene_param_range(k / sf->nu, k / sf->nu, sf->nv, &t0, &t1);

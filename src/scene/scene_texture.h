@@ -7,10 +7,15 @@
 #ifndef XRAD_SCENE_TEXTURE_H
 #define XRAD_SCENE_TEXTURE_H
 
+#include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "core/error.h"
 #include "scene/scene.h"
+
+/* Largest map side: 16K texels (glTF files carry up to 8K). */
+#define SCENE_TEXTURE_MAX_SIDE 16384u
 
 /* A copy of xrad_image_desc: linear RGB, row 0 at v = 1. width 0: none. */
 typedef struct scene_texture {
@@ -42,5 +47,15 @@ vec3 scene_texture_mean(const scene_texture *tex, const surface *sf, const scene
  * elements must be built. */
 xrad_status scene_texture_albedos(xrad_scene *scene, const scene_texture *maps,
                                   uint32_t map_count, const scene_uv *uv, xrad_error *err);
+
+/* Decodes an image file's `size` bytes (PNG, JPEG, TGA or BMP;
+ * texture_load.c) into linear RGB, *rgb (malloc'd) width x height x 3
+ * floats, the top row first; `srgb`: 8-bit values are sRGB encoded (a
+ * glTF base colour texture, an OBJ map_Kd). Errors name `what`. */
+xrad_status scene_texture_decode(const void *data, size_t size, bool srgb, const char *what,
+                                 float **rgb, uint32_t *width, uint32_t *height, xrad_error *err);
+
+/* count 8-bit values -> floats in [0, 1], sRGB decoded where `srgb`. */
+void scene_texture_from_8bit(const uint8_t *in, size_t count, bool srgb, float *out);
 
 #endif

@@ -7,8 +7,16 @@
  *    reference of the placed OBJ gives the same area-weighted radiosity
  *    as the same room written as JSON quads (tests/data/lamp-room.json),
  *    within 0.5% (two element layouts of one room);
- *  - a glTF binary of assimp's test models (BoxTextured.glb) loads, and
- *    its texture and its clamped base colour are listed as warnings;
+ *  - a glTF binary of assimp's test models (BoxTextured.glb) loads, its
+ *    base colour texture an albedo map (issue 18.1): the same element
+ *    albedos from the .glb, the .gltf with the PNG beside it and the one
+ *    with it embedded as a data URI; its clamped base colour a warning;
+ *  - a quad's glTF with a 2 x 1 PNG (pixels 50 100 200 and 220 160 40),
+ *    factor 0.5: the elements' area mean is 0.5 x the sRGB-decoded mean
+ *    of the two pixels (IEC 61966-2-1, computed here), every element
+ *    between the two colours; from memory (data URIs) and from a file
+ *    with the PNG beside it; a PNG that is missing or not a PNG is a
+ *    warning naming the texture, and the factor alone is used;
  *  - bad input names the scene file, the object, the surface and the
  *    model file: a missing file, a node that is not there, a format
  *    xrad does not read;
@@ -21,12 +29,18 @@
  *    the coordinate limit, indices out of range, zero-area triangles,
  *    points and lines, PLY counts that cannot fit, a missing buffer.
  */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "harness.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
 #include "xrad.h"
+
+static int has_warning(const xrad_scene *sc, const char *const *want);
 
 static xrad_scene *load(const char *rel)
 {
@@ -120,13 +134,166 @@ static void gltf_box(void)
           sc->surface_count);
     int textures = 0, clamped = 0;
     for (uint32_t k = 0; k < xrad_scene_warning_count(sc); k++) {
-        textures |= strstr(xrad_scene_warning(sc, k), "textures") != NULL;
+        textures |= strstr(xrad_scene_warning(sc, k), "texture") != NULL;
         clamped |= strstr(xrad_scene_warning(sc, k), "clamped") != NULL;
     }
-    CHECK(textures && clamped, "warnings: textures %d, clamped base colour %d", textures,
-          clamped);
+    CHECK(!textures && clamped, "warnings: texture %d (want none), clamped base colour %d",
+          textures, clamped);
     CHECK(xrad_scene_warning(sc, xrad_scene_warning_count(sc)) == NULL, "NULL past the count");
+    CHECK(sc->element_albedo != NULL, "BoxTextured.glb: no element albedos from its texture");
+    /* The same box with the PNG beside it and embedded as a data URI. */
+    static const char *const others[] = {
+        "/usr/share/assimp/models/glTF2/BoxTextured-glTF/BoxTextured.gltf",
+        "/usr/share/assimp/models/glTF2/BoxTextured-glTF-Embedded/BoxTextured.gltf"};
+    double lo = 1, hi = 0;
+    for (uint32_t e = 0; sc->element_albedo && e < sc->element_count; e++) {
+        lo = fmin(lo, sc->element_albedo[e].x);
+        hi = fmax(hi, sc->element_albedo[e].x);
+    }
+    fprintf(stderr, "BoxTextured.glb: element albedos (red) %.3f to %.3f\n", lo, hi);
+    CHECK(sc->element_albedo && lo >= 0 && hi < 1 && hi - lo > 0.2,
+          "BoxTextured.glb: element albedos %.3f to %.3f, want the logo's contrast", lo, hi);
+    for (int k = 0; k < 2 && sc->element_albedo; k++) {
+        xrad_scene *o = NULL;
+        st = xrad_scene_load(others[k], &o, &err);
+        CHECK(st == XRAD_OK && o->element_albedo && o->element_count == sc->element_count,
+              "%s: %s", others[k], st ? err.message : "no element albedos, or another count");
+        double worst = 0;
+        for (uint32_t e = 0; !st && o->element_albedo && e < o->element_count &&
+                             o->element_count == sc->element_count;
+             e++)
+            worst = fmax(worst, v3_len(v3_sub(o->element_albedo[e], sc->element_albedo[e])));
+        CHECK(worst == 0, "%s: element albedos up to %.3g off the .glb's", others[k], worst);
+        xrad_scene_destroy(&o);
+    }
     xrad_scene_destroy(&sc);
+}
+
+/* A unit quad of two triangles, TEXCOORD_0 over the whole image, base
+ * colour factor 0.5; `image` the glTF image's uri. */
+static void quad_gltf(char *out, size_t n, const char *image)
+{
+    snprintf(
+        out, n,
+        "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}],\n"
+        " \"nodes\": [{\"mesh\": 0, \"name\": \"quad\"}],\n"
+        " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1},"
+        " \"indices\": 2, \"material\": 0}]}],\n"
+        " \"materials\": [{\"name\": \"paint\", \"pbrMetallicRoughness\": {\"baseColorFactor\":"
+        " [0.5, 0.5, 0.5, 1], \"baseColorTexture\": {\"index\": 0}, \"metallicFactor\": 0}}],\n"
+        " \"textures\": [{\"source\": 0}], \"images\": [{\"uri\": \"%s\"}],\n"
+        " \"buffers\": [{\"byteLength\": 94, \"uri\": \"data:application/octet-stream;base64,"
+        "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAIA/AACAPwAA"
+        "gD8AAAAAAAAAAAAAAAAAAAEAAgAAAAIAAwAAAA==\"}],\n"
+        " \"bufferViews\": [{\"buffer\": 0, \"byteOffset\": 0, \"byteLength\": 48},"
+        " {\"buffer\": 0, \"byteOffset\": 48, \"byteLength\": 32},"
+        " {\"buffer\": 0, \"byteOffset\": 80, \"byteLength\": 12}],\n"
+        " \"accessors\": [{\"bufferView\": 0, \"componentType\": 5126, \"count\": 4, \"type\":"
+        " \"VEC3\", \"min\": [0, 0, 0], \"max\": [1, 1, 0]},"
+        " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
+        " {\"bufferView\": 2, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}]}\n",
+        image);
+}
+
+/* The 2 x 1 PNG: pixels (50, 100, 200) and (220, 160, 40). */
+static const char two_pixels_png[] =
+    "iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAIAAAB7QOjdAAAAD0lEQVR4nGMwSjlxZ4EGAApDAwNVlaTGAAAAAElFTkSuQmCC";
+
+static double srgb_decode(double v)
+{
+    double c = v / 255;
+    return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4);
+}
+
+/* The quad's element albedos against the two pixels. */
+static void check_two_pixels(const char *label, const xrad_scene *sc)
+{
+    static const double px[2][3] = {{50, 100, 200}, {220, 160, 40}};
+    CHECK(sc->element_albedo != NULL, "%s: no element albedos", label);
+    if (!sc->element_albedo)
+        return;
+    double sum[3] = {0, 0, 0}, area = 0, outside = 0;
+    for (uint32_t e = 0; e < sc->element_count; e++) {
+        const double a[3] = {sc->element_albedo[e].x, sc->element_albedo[e].y,
+                             sc->element_albedo[e].z};
+        for (int c = 0; c < 3; c++) {
+            sum[c] += sc->elements[e].area * a[c];
+            double x = 0.5 * srgb_decode(px[0][c]), y = 0.5 * srgb_decode(px[1][c]);
+            outside = fmax(outside, fmax(fmin(x, y) - a[c], a[c] - fmax(x, y)));
+        }
+        area += sc->elements[e].area;
+    }
+    double worst = 0;
+    for (int c = 0; c < 3; c++)
+        worst = fmax(worst, fabs(sum[c] / area -
+                                 0.25 * (srgb_decode(px[0][c]) + srgb_decode(px[1][c]))));
+    fprintf(stderr, "%s: area mean %.2e off 0.5 x the pixels' mean, %u elements\n", label, worst,
+            sc->element_count);
+    CHECK(worst <= 1e-5, "%s: area mean albedo %.3g off 0.5 x the two pixels' mean", label,
+          worst);
+    CHECK(outside <= 1e-6, "%s: an element %.3g outside the two pixels' colours", label,
+          outside);
+}
+
+static void gltf_maps(void)
+{
+    static char gltf[4096], uri[256];
+    snprintf(uri, sizeof(uri), "data:image/png;base64,%s", two_pixels_png);
+    quad_gltf(gltf, sizeof(gltf), uri);
+    xrad_scene *sc = NULL;
+    xrad_error err = {0};
+    xrad_status st = scene_load_model_memory("quad.gltf", gltf, strlen(gltf), &sc, &err);
+    CHECK(st == XRAD_OK, "quad.gltf, PNG as a data URI: %s", err.message);
+    if (!st)
+        check_two_pixels("quad.gltf, PNG as a data URI", sc);
+    xrad_scene_destroy(&sc);
+
+    /* The PNG beside the .gltf; then missing, then not a PNG. */
+    char dir[] = "/tmp/xrad-maps-XXXXXX";
+    CHECK(mkdtemp(dir) != NULL, "mkdtemp");
+    char path[512], png[512];
+    snprintf(path, sizeof(path), "%s/quad.gltf", dir);
+    snprintf(png, sizeof(png), "%s/two.png", dir);
+    quad_gltf(gltf, sizeof(gltf), "two.png");
+    FILE *f = fopen(path, "wb");
+    if (f) {
+        fputs(gltf, f);
+        fclose(f);
+    }
+    static const char b64[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    unsigned char bytes[128];
+    size_t nb = 0;
+    uint32_t acc = 0;
+    int bits = 0;
+    for (const char *c = two_pixels_png; *c && *c != '='; c++) {
+        acc = acc << 6 | (uint32_t)(strchr(b64, *c) - b64);
+        if ((bits += 6) >= 8) {
+            bits -= 8;
+            bytes[nb++] = (unsigned char)(acc >> bits);
+        }
+    }
+    for (int pass = 0; pass < 3; pass++) {
+        remove(png);
+        if (pass != 1 && (f = fopen(png, "wb"))) {
+            /* pass 2: the PNG cut short, not an image. */
+            fwrite(bytes, 1, pass == 0 ? nb : 20, f);
+            fclose(f);
+        }
+        st = xrad_scene_load(path, &sc, &err);
+        CHECK(st == XRAD_OK, "quad.gltf, PNG beside it (pass %d): %s", pass, err.message);
+        if (!st && pass == 0)
+            check_two_pixels("quad.gltf, PNG beside it", sc);
+        if (!st && pass > 0) {
+            const char *const want[] = {"two.png", "not read", NULL};
+            CHECK(has_warning(sc, want) && !sc->element_albedo,
+                  "quad.gltf, PNG %s: no warning naming it, or element albedos",
+                  pass == 1 ? "missing" : "cut short");
+        }
+        xrad_scene_destroy(&sc);
+    }
+    remove(png);
+    remove(path);
+    rmdir(dir);
 }
 
 static void bad(const char *label, const char *mesh, const char *const *want)
@@ -424,6 +591,7 @@ int main(void)
 {
     obj_room();
     gltf_box();
+    gltf_maps();
     errors();
     broken_files();
     seeds();
