@@ -209,6 +209,36 @@ typedef struct xrad_mesh_desc {
 XRAD_API xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_desc *m,
                                                  xrad_error *err);
 
+/* A light that is not a surface (issue 18.3): a point emitter with an
+ * intensity distribution, placed in world space (static). Its direct
+ * light reaches the surfaces it sees (a segment to each element's sample
+ * point, every surface blocking) as irradiance I cos(theta) / d^2, which
+ * every method and the CPU reference take as the first bounce: each lit
+ * element starts as though it emitted rho E (Wallner 3.2: a luminaire
+ * shoots first). Photometric files give candela; xrad's radiometric
+ * unit is 1/683 of it (683 lm/W, Wallner eq. 10-12). */
+typedef struct xrad_luminaire_desc {
+    const char *name;      /* unique among the luminaires */
+    const char *file;      /* EULUMDAT (.ldt) or IES LM-63 (.ies); NULL: a point or spot
+                              light of `intensity` */
+    double intensity[3];   /* W/sr per channel (file NULL); with a file, its candela / 683 x
+                              `scale` in every channel */
+    double scale;          /* a file's intensities times this; 0: 1 */
+    double position[3];    /* m, world */
+    double aim[3];         /* the distribution's gamma = 0 axis (a luminaire's nadir, a spot's
+                              axis); 0 0 0: straight down, -y */
+    double up[3];          /* towards its C = 0 plane (file), any direction not along aim;
+                              0 0 0: +x, or +z where aim is along x */
+    double cone_degrees;   /* spot (file NULL): half-angle of the cone, (0, 180]; 0: all
+                              directions (a point light) */
+    double falloff_degrees; /* spot: the intensity falls smoothly to 0 over this last part of
+                               the cone, [0, cone_degrees] */
+} xrad_luminaire_desc;
+
+XRAD_API xrad_status xrad_scene_builder_add_luminaire(xrad_scene_builder *b,
+                                                      const xrad_luminaire_desc *l,
+                                                      xrad_error *err);
+
 typedef struct xrad_camera_desc {
     double position[3], look_at[3]; /* m, world */
     double up[3];                   /* default (0, 1, 0) */
@@ -239,6 +269,7 @@ typedef struct xrad_scene_info {
     uint32_t meshes;                    /* triangle meshes (xrad_scene_get_mesh) */
     uint32_t albedo_maps;               /* materials with an albedo map */
     uint32_t mapped_elements;           /* elements whose albedo comes from one */
+    uint32_t luminaires;                /* xrad_scene_builder_add_luminaire, "luminaires" */
 } xrad_scene_info;
 
 XRAD_API void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info);

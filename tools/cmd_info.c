@@ -157,6 +157,8 @@ int cmd_info(int argc, char **argv)
                in.albedo_maps, in.mapped_elements);
     else
         printf("materials   %u\n", in.materials);
+    if (in.luminaires)
+        printf("luminaires  %u\n", in.luminaires);
     printf("elements    %u (static %u, dynamic %u)\n", in.elements, in.static_elements,
            in.dynamic_elements);
     printf("area        %.6g m^2\n", in.area);

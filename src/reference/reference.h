@@ -106,9 +106,12 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
 /* The Monte Carlo gather solver (XRAD_REFERENCE_SOLVER_GATHER, xrad.h):
  * B (3 doubles per element) for the resolved desc `d`; fills the stats'
  * timings, sweeps, residual, gather_rays and max_row_sum (the largest
- * fraction of an element's gather rays that meet a surface's front). */
-xrad_status ref_gather_solve(const xrad_scene *scene, const xrad_reference_desc *d, double *b,
-                             xrad_reference_stats *stats, xrad_error *err);
+ * fraction of an element's gather rays that meet a surface's front).
+ * `lum` (NULL: none): the luminaires' irradiance per element, added to
+ * the emitters' direct light (scene_luminaire.h). */
+xrad_status ref_gather_solve(const xrad_scene *scene, const xrad_reference_desc *d,
+                             const vec3 *lum, double *b, xrad_reference_stats *stats,
+                             xrad_error *err);
 
 /* The end of a Gauss-Seidel sweep: the residual, max |delta B| / max |B|
  * per channel and the largest of the three (a channel whose values are

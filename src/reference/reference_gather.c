@@ -218,8 +218,9 @@ static void solve(const gather *G, const xrad_reference_desc *d, double *b,
     stats->residual = residual;
 }
 
-xrad_status ref_gather_solve(const xrad_scene *scene, const xrad_reference_desc *d, double *b,
-                             xrad_reference_stats *stats, xrad_error *err)
+xrad_status ref_gather_solve(const xrad_scene *scene, const xrad_reference_desc *d,
+                             const vec3 *lum, double *b, xrad_reference_stats *stats,
+                             xrad_error *err)
 {
     uint64_t n = scene->element_count;
     uint64_t hit_bytes = n * d->gather_rays * sizeof(uint32_t);
@@ -254,6 +255,11 @@ xrad_status ref_gather_solve(const xrad_scene *scene, const xrad_reference_desc 
     }
     ref_parallel_for((uint32_t)n, d->threads, trace_element, &G, d->progress, d->progress_user,
                      "gather rays");
+    for (uint64_t i = 0; lum && i < n; i++) {
+        G.direct[3 * i + 0] += lum[i].x;
+        G.direct[3 * i + 1] += lum[i].y;
+        G.direct[3 * i + 2] += lum[i].z;
+    }
     stats->max_row_sum = 0;
     for (uint64_t i = 0; i < n; i++)
         stats->max_row_sum = fmax(stats->max_row_sum, (double)G.front[i] / G.rays);

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "reference/ff_kernel.h"
 #include "reference/ref_parallel.h"
+#include "scene/scene_luminaire.h"
 
 #define DEFAULT_RAYS 16
 /* Rays visibility: every pair's visible fraction is this many rays'. */
@@ -424,6 +425,14 @@ double ref_sweep_residual(const xrad_reference_desc *d, const double max_delta[3
     return residual;
 }
 
+/* E_i: element i's emission, and what it reflects of the luminaires'
+ * direct irradiance lum[i] (lum NULL: none; scene_luminaire.h). */
+static vec3 source(const xrad_scene *scene, const vec3 *lum, uint32_t i)
+{
+    vec3 e = scene->materials[scene->surfaces[scene->elements[i].surface].material].emission;
+    return lum ? v3_add(e, v3_mul(scene_element_albedo(scene, i), lum[i])) : e;
+}
+
 /* Gauss-Seidel on B_i = E_i + rho_i sum_j F_ij B_j (thesis eq. 2.2.2; 2.2.2
  * "Global exchange"), RGB, starting from B = E. b holds 3 n doubles. The
  * residual of a sweep is max |delta B| / max |B| taken per channel, and the
@@ -431,14 +440,13 @@ double ref_sweep_residual(const xrad_reference_desc *d, const double max_delta[3
  * (emission spans many orders of magnitude) still converges relative to
  * its own scale. */
 static void gauss_seidel(const xrad_scene *scene, const float *F, const xrad_reference_desc *d,
-                         double *b, xrad_reference_stats *stats)
+                         const vec3 *lum, double *b, xrad_reference_stats *stats)
 {
     uint32_t n = scene->element_count;
     for (uint32_t i = 0; i < n; i++) {
-        const material *m = &scene->materials[scene->surfaces[scene->elements[i].surface].material];
-        b[3 * i + 0] = m->emission.x;
-        b[3 * i + 1] = m->emission.y;
-        b[3 * i + 2] = m->emission.z;
+        b[3 * i + 0] = source(scene, lum, i).x;
+        b[3 * i + 1] = source(scene, lum, i).y;
+        b[3 * i + 2] = source(scene, lum, i).z;
     }
     double residual = 0, reported = -1;
     uint32_t sweep = 0;
@@ -446,8 +454,7 @@ static void gauss_seidel(const xrad_scene *scene, const float *F, const xrad_ref
         sweep++;
         double max_delta[3] = {0, 0, 0}, max_b[3] = {0, 0, 0};
         for (uint32_t i = 0; i < n; i++) {
-            const material *m =
-                &scene->materials[scene->surfaces[scene->elements[i].surface].material];
+            const vec3 e = source(scene, lum, i);
             const float *row = F + (size_t)i * n;
             double r = 0, gr = 0, bl = 0;
             for (uint32_t j = 0; j < n; j++) {
@@ -457,8 +464,7 @@ static void gauss_seidel(const xrad_scene *scene, const float *F, const xrad_ref
                 bl += f * b[3 * j + 2];
             }
             vec3 rho = scene_element_albedo(scene, i);
-            double nb[3] = {m->emission.x + rho.x * r, m->emission.y + rho.y * gr,
-                            m->emission.z + rho.z * bl};
+            double nb[3] = {e.x + rho.x * r, e.y + rho.y * gr, e.z + rho.z * bl};
             for (int c = 0; c < 3; c++) {
                 max_delta[c] = fmax(max_delta[c], fabs(nb[c] - b[3 * i + c]));
                 max_b[c] = fmax(max_b[c], fabs(nb[c]));
@@ -493,20 +499,29 @@ xrad_status xrad_reference_solve(const xrad_scene *scene, const xrad_reference_d
     xrad_reference_stats local = {.solver = d.solver};
     uint32_t n = scene->element_count;
     double *b = malloc(3 * (size_t)(n ? n : 1) * sizeof *b);
-    if (!b)
+    /* The luminaires' direct light: analytic point-source irradiance with
+     * ray-cast visibility (scene_luminaire.h). */
+    vec3 *lum = scene->luminaire_count ? calloc(n ? n : 1, sizeof(vec3)) : NULL;
+    if (!b || (scene->luminaire_count && !lum)) {
+        free(b);
+        free(lum);
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "reference: out of memory for %u elements", n);
-    if (d.solver == XRAD_REFERENCE_SOLVER_GATHER) {
-        st = ref_gather_solve(scene, &d, b, &local, err);
-    } else {
+    }
+    if (lum)
+        st = scene_luminaire_irradiance(scene, d.time, lum, err);
+    if (!st && d.solver == XRAD_REFERENCE_SOLVER_GATHER) {
+        st = ref_gather_solve(scene, &d, lum, b, &local, err);
+    } else if (!st) {
         float *F = NULL;
         st = ref_form_factor_matrix(scene, &d, &F, &local, err);
         if (!st) {
             double t0 = ref_seconds();
-            gauss_seidel(scene, F, &d, b, &local);
+            gauss_seidel(scene, F, &d, lum, b, &local);
             local.solve_seconds = ref_seconds() - t0;
         }
         free(F);
     }
+    free(lum);
     if (st) {
         free(b);
         return st;

@@ -144,6 +144,17 @@ typedef struct element {
     uint32_t texel_x, texel_y; /* atlas texel */
 } element;
 
+/* A luminaire (xrad_luminaire_desc): a point emitter, world space. */
+typedef struct luminaire {
+    char name[SCENE_NAME_MAX];
+    vec3 position;         /* m, world */
+    vec3 aim, c0, c90;     /* unit frame: gamma = 0, the C = 0 and C = 90 planes */
+    vec3 intensity;        /* W/sr (point, spot), or the file's cd / 683 x scale per channel */
+    struct photometry *photometry; /* NULL: point or spot */
+    double cos_outer, cos_inner; /* spot: 0 beyond the outer cone, full within the inner;
+                                    cos_outer -2: a point light */
+} luminaire;
+
 typedef struct camera {
     vec3 position, look_at, up; /* m, world */
     double fov_y;               /* radians, vertical */
@@ -169,6 +180,8 @@ struct xrad_scene {
      * without one. Read it through scene_element_albedo. */
     vec3 *element_albedo;
     uint32_t albedo_maps, mapped_elements; /* xrad_scene_info */
+    uint32_t luminaire_count;
+    luminaire *luminaires;
 
     uint32_t atlas_width, atlas_height;
     camera cam;

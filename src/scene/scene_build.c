@@ -294,6 +294,7 @@ void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info)
     info->meshes = scene->mesh_count;
     info->albedo_maps = scene->albedo_maps;
     info->mapped_elements = scene->mapped_elements;
+    info->luminaires = scene->luminaire_count;
     if (scene->element_albedo)
         bytes += (size_t)scene->element_count * sizeof(vec3);
     bytes += scene->mesh_count * sizeof(scene_mesh);

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
+#include "scene/scene_luminaire.h"
 #include "scene/scene_texture.h"
 
 #define PI 3.14159265358979323846
@@ -27,7 +28,7 @@ struct xrad_scene_builder {
     double density;       /* scene default, per m, scaled */
     double density_scale; /* every density given times this */
     uint64_t elements;    /* so far, for the limit */
-    uint32_t material_cap, object_cap, surface_cap, mesh_cap;
+    uint32_t material_cap, object_cap, surface_cap, mesh_cap, luminaire_cap;
     /* Albedo maps (scene_texture.h): per material once one has a map
      * (width 0: none), and the texture coordinates of the surfaces with
      * one; NULL in a scene without. The elements' albedos come from them
@@ -1003,6 +1004,38 @@ done:
 
 /* ----------------------------------------------------------------- camera */
 
+xrad_status xrad_scene_builder_add_luminaire(xrad_scene_builder *b, const xrad_luminaire_desc *l,
+                                            xrad_error *err)
+{
+    xrad_status st = check_usable(b, err);
+    if (st)
+        return st;
+    xrad_scene *sc = b->sc;
+    char where[SCENE_NAME_MAX + 32];
+    snprintf(where, sizeof(where), "luminaire #%u: ", sc->luminaire_count);
+    if (!l)
+        return fail(b, err, where, NULL, "no description (NULL)");
+    if ((st = check_name(b, err, where, l->name, 0)))
+        return st;
+    snprintf(where, sizeof(where), "luminaire '%s': ", l->name);
+    for (uint32_t k = 0; k < sc->luminaire_count; k++)
+        if (!strcmp(sc->luminaires[k].name, l->name))
+            return fail(b, err, where, "name", "duplicate luminaire name '%s'", l->name);
+    if (sc->luminaire_count >= SCENE_MAX_LUMINAIRES)
+        return fail(b, err, "", "luminaires", "more than %u luminaires", SCENE_MAX_LUMINAIRES);
+    if (!grow((void **)&sc->luminaires, &b->luminaire_cap, sc->luminaire_count + 1,
+              sizeof(luminaire)))
+        return out_of_memory(b, err);
+    char w[sizeof(where) + 600];
+    snprintf(w, sizeof(w), "%s: %s", b->file, where);
+    if ((st = scene_luminaire_setup(l, w, &sc->luminaires[sc->luminaire_count], err))) {
+        b->failed = true;
+        return st;
+    }
+    sc->luminaire_count++;
+    return XRAD_OK;
+}
+
 xrad_status xrad_scene_builder_set_camera(xrad_scene_builder *b, const xrad_camera_desc *c,
                                           xrad_error *err)
 {
@@ -1075,9 +1108,9 @@ static void warn_unlit(xrad_scene_builder *b)
         lit = lit || m->emission.x > 0 || m->emission.y > 0 || m->emission.z > 0;
     }
     /* Warnings name the file (tests/fuzz/fuzz_import.c holds them to it). */
-    if (!lit)
-        scene_builder_warn(b, "%s: no surface emits light: every method solves to black (a "
-                              "material's \"emission\")",
+    if (!lit && !sc->luminaire_count)
+        scene_builder_warn(b, "%s: no surface emits light and no luminaire: every method "
+                              "solves to black (a material's \"emission\", \"luminaires\")",
                            sc->path);
     for (uint32_t k = 0; k < sc->material_count; k++)
         if (!used[k])

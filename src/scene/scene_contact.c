@@ -177,17 +177,9 @@ static void quad_params(const vec3 c[4], vec3 y, double *u, double *v)
 #define RAY_SEES(h) ((h) < RAY_HIDDEN)
 #define RAY_COUNT 25
 
-typedef struct ray_scene {
-    const xrad_scene *scene;
-    double time, diameter;
-    bool dynamic_too;
-    vec3 *corners, *normals; /* world, at `time` */
-    quad_bvh bvh;            /* over the corners: candidates for the exact tests */
-} ray_scene;
-
 /* A ray's query through the BVH: the nearest hit, or any hit but `skip`'s. */
 typedef struct ray_query {
-    const ray_scene *rs;
+    const scene_rays *rs;
     vec3 o, d;
     double tmin, tmax;
     uint32_t skip;
@@ -195,7 +187,7 @@ typedef struct ray_query {
     double best_t;
 } ray_query;
 
-static bool counts(const ray_scene *rs, uint32_t s)
+static bool counts(const scene_rays *rs, uint32_t s)
 {
     return rs->dynamic_too || !rs->scene->objects[rs->scene->surfaces[s].object].dynamic;
 }
@@ -220,7 +212,7 @@ static bool visit_nearest(void *user, uint32_t s, double *tmax)
 /* The nearest surface the ray o + t dir (t > tmin) meets, or -1; *back is
  * set when the ray meets its back face, *at to the point met. Dynamic
  * surfaces count only with rs->dynamic_too. */
-static int32_t nearest_hit(const ray_scene *rs, vec3 o, vec3 dir, double tmin, bool *back,
+static int32_t nearest_hit(const scene_rays *rs, vec3 o, vec3 dir, double tmin, bool *back,
                            vec3 *at)
 {
     ray_query q = {.rs = rs, .o = o, .d = dir, .tmin = tmin, .best = -1, .best_t = INFINITY};
@@ -241,9 +233,7 @@ static bool visit_blocking(void *user, uint32_t s, double *tmax)
            quad_hit(&q->rs->corners[4 * s], q->rs->normals[s], q->o, q->d, q->tmin, q->tmax, &t);
 }
 
-/* Whether a surface other than `skip` crosses the segment a-b (ends
- * excluded). */
-static bool segment_blocked(const ray_scene *rs, vec3 a, vec3 b, uint32_t skip)
+bool scene_rays_blocked(const scene_rays *rs, vec3 a, vec3 b, uint32_t skip)
 {
     ray_query q = {.rs = rs, .o = a, .d = v3_sub(b, a), .tmin = 1e-9, .tmax = 1 - 1e-9,
                    .skip = skip};
@@ -256,7 +246,7 @@ static bool segment_blocked(const ray_scene *rs, vec3 a, vec3 b, uint32_t skip)
  * on it hides the cells on its far side: a cabinet against a wall without
  * a back face closes a pocket of wall and floor, whose cells straddling
  * its edge lie outside). RAY_HIDDEN if none. */
-static uint32_t element_seen(const ray_scene *rs, uint32_t s, vec3 y)
+static uint32_t element_seen(const scene_rays *rs, uint32_t s, vec3 y)
 {
     const xrad_scene *scene = rs->scene;
     const surface *sf = &scene->surfaces[s];
@@ -284,7 +274,7 @@ static uint32_t element_seen(const ray_scene *rs, uint32_t s, vec3 y)
     for (uint32_t m = 0; m < nc; m++) {
         uint32_t e = sf->first_element + cand[m];
         vec3 c = xf_point(&pose, scene_element_centroid(sf, &scene->elements[e]));
-        if (!segment_blocked(rs, v3_add(y, off), v3_add(c, off), s))
+        if (!scene_rays_blocked(rs, v3_add(y, off), v3_add(c, off), s))
             return e;
     }
     return RAY_HIDDEN;
@@ -292,7 +282,7 @@ static uint32_t element_seen(const ray_scene *rs, uint32_t s, vec3 y)
 
 /* The RAY_COUNT rays of the point x (normal n): the normal and 4 rings of
  * 6 azimuths (elevations 15-75 degrees); out[k] is what ray k meets. */
-static void trace_rays(const ray_scene *rs, vec3 x, vec3 n, uint32_t out[RAY_COUNT])
+static void trace_rays(const scene_rays *rs, vec3 x, vec3 n, uint32_t out[RAY_COUNT])
 {
     vec3 t = fabs(n.x) < 0.9 ? v3(1, 0, 0) : v3(0, 1, 0);
     t = v3_norm(v3_sub(t, v3_scale(n, v3_dot(t, n))));
@@ -344,8 +334,8 @@ static void spread_light(const uint32_t *cand, uint32_t ncand, const uint32_t *r
     }
 }
 
-static xrad_status ray_scene_init(ray_scene *rs, const xrad_scene *scene, double time,
-                                  bool dynamic_too, xrad_error *err)
+xrad_status scene_rays_init(scene_rays *rs, const xrad_scene *scene, double time,
+                            bool dynamic_too, xrad_error *err)
 {
     rs->scene = scene;
     rs->time = time;
@@ -360,7 +350,7 @@ static xrad_status ray_scene_init(ray_scene *rs, const xrad_scene *scene, double
     return quad_bvh_build(rs->corners, scene->surface_count, 1e-6 * rs->diameter, &rs->bvh, err);
 }
 
-static void ray_scene_free(ray_scene *rs)
+void scene_rays_free(scene_rays *rs)
 {
     free(rs->corners);
     free(rs->normals);
@@ -391,11 +381,11 @@ static xrad_status enclosure(const xrad_scene *scene, double time, bool dynamic_
     uint32_t *cand = malloc(ncand * sizeof(uint32_t));
     uint32_t *rays = malloc((size_t)ncand * RAY_COUNT * sizeof(uint32_t));
     uint8_t *lit = malloc(ne ? ne : 1);
-    ray_scene rs = {0};
+    scene_rays rs = {0};
     xrad_status st = !cand || !rays || !lit
                          ? xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for enclosure",
                                      scene->path)
-                         : ray_scene_init(&rs, scene, time, dynamic_too, err);
+                         : scene_rays_init(&rs, scene, time, dynamic_too, err);
     if (st)
         goto done;
     /* Light starts at the emitters; with none static (a moving lamp) the
@@ -437,7 +427,7 @@ static xrad_status enclosure(const xrad_scene *scene, double time, bool dynamic_
         }
     }
 done:
-    ray_scene_free(&rs);
+    scene_rays_free(&rs);
     free(cand);
     free(rays);
     free(lit);

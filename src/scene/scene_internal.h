@@ -11,6 +11,7 @@
 #include <stdint.h>
 
 #include "core/error.h"
+#include "scene/quad_bvh.h"
 #include "scene/scene.h"
 
 /* Limits (documented in scenes/README.md). */
@@ -66,6 +67,23 @@ bool scene_triangle_setup(surface *s, const vec3 in[3], char *why, size_t why_le
 /* |dP/ds x dP/dt| of surface sf's bilinear parametrisation at (s, t),
  * signed along its normal (exactly bilinear in s, t for a planar quad). */
 double scene_surface_jacobian(const surface *sf, double s, double t);
+
+/* The surfaces in world space at a time, for segment and ray tests
+ * (scene_contact.c): exact quad tests behind a BVH. */
+typedef struct scene_rays {
+    const xrad_scene *scene;
+    double time, diameter;
+    bool dynamic_too;        /* dynamic surfaces block too */
+    vec3 *corners, *normals; /* world, at `time` */
+    quad_bvh bvh;            /* over the corners: candidates for the exact tests */
+} scene_rays;
+
+xrad_status scene_rays_init(scene_rays *rs, const xrad_scene *scene, double time,
+                            bool dynamic_too, xrad_error *err);
+void scene_rays_free(scene_rays *rs);
+/* Whether a surface other than `skip` crosses the segment a-b (ends
+ * excluded). */
+bool scene_rays_blocked(const scene_rays *rs, vec3 a, vec3 b, uint32_t skip);
 
 /* Names are checked for duplicates through sorted lists, so that large
  * scenes cost n log n, not n^2. */

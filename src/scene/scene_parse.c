@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
+#include "scene/scene_luminaire.h"
 
 #define PI 3.14159265358979323846
 
@@ -743,6 +744,66 @@ static xrad_status parse_camera(ctx *c, const cJSON *j)
     return xrad_scene_builder_set_camera(c->b, &cam, c->err);
 }
 
+/* ------------------------------------------------------------ luminaires */
+
+/* {"name", "file" | "intensity", "scale", "position", "aim", "up", "cone",
+ * "falloff"} (scenes/README.md "Luminaires"). */
+static xrad_status parse_luminaire(ctx *c, const cJSON *j, uint32_t index)
+{
+    static const char *const keys[] = {"name", "file", "intensity", "scale",   "position",
+                                       "aim",  "up",   "cone",      "falloff", NULL};
+    snprintf(c->where, sizeof(c->where), "luminaires[%u]: ", index);
+    if (!cJSON_IsObject(j))
+        return fail(c, NULL, "must be an object, got %s", type_name(j));
+    char name[SCENE_NAME_MAX];
+    xrad_status st = check_keys(c, j, "", keys);
+    if (st || (st = get_name(c, j, "name", "name", 0, name)))
+        return st;
+    snprintf(c->where, sizeof(c->where), "luminaire '%s': ", name);
+    xrad_luminaire_desc d = {.name = name};
+    vec3 position, aim = v3(0, 0, 0), up = v3(0, 0, 0), intensity = v3(0, 0, 0);
+    bool has_intensity = false, has;
+    if ((st = get_length3(c, j, "position", "position", true, &position, NULL)) ||
+        (st = get_vec3(c, j, "aim", "aim", false, &aim, &has)) ||
+        (has && !(v3_len(aim) > 0) && (st = fail(c, "aim", "must be non-zero"))) ||
+        (st = get_vec3(c, j, "up", "up", false, &up, &has)) ||
+        (has && !(v3_len(up) > 0) && (st = fail(c, "up", "must be non-zero"))) ||
+        (st = get_vec3(c, j, "intensity", "intensity", false, &intensity, &has_intensity)) ||
+        (st = get_number(c, j, "scale", "scale", false, &d.scale, &has)) ||
+        (has && !(d.scale > 0) && (st = fail(c, "scale", "must be positive, got %g", d.scale))) ||
+        (st = get_number(c, j, "cone", "cone", false, &d.cone_degrees, &has)) ||
+        (has && !(d.cone_degrees > 0) &&
+         (st = fail(c, "cone", "must be in (0, 180] degrees, got %g", d.cone_degrees))) ||
+        (st = get_number(c, j, "falloff", "falloff", false, &d.falloff_degrees, NULL)))
+        return st;
+    const cJSON *file = member(j, "file");
+    char path[1024];
+    if (file) {
+        if (!cJSON_IsString(file) || !file->valuestring[0])
+            return fail(c, "file", "must be a non-empty string, got %s", type_name(file));
+        if (has_intensity || d.cone_degrees != 0 || d.falloff_degrees != 0)
+            return fail(c, has_intensity ? "intensity" : "cone",
+                        "a luminaire's file gives its distribution: no intensity, cone or "
+                        "falloff beside it");
+        /* Relative to the scene file, as a mesh's. */
+        const char *slash = strrchr(c->file, '/');
+        if (file->valuestring[0] != '/' && slash)
+            snprintf(path, sizeof(path), "%.*s/%s", (int)(slash - c->file), c->file,
+                     file->valuestring);
+        else
+            snprintf(path, sizeof(path), "%s", file->valuestring);
+        d.file = path;
+    } else if (!has_intensity) {
+        return fail(c, "file", "missing: a luminaire has a photometric file (.ldt, .ies) or "
+                    "an intensity (W/sr, a point or spot light)");
+    }
+    put3(d.position, position);
+    put3(d.aim, aim);
+    put3(d.up, up);
+    put3(d.intensity, intensity);
+    return xrad_scene_builder_add_luminaire(c->b, &d, c->err);
+}
+
 /* ------------------------------------------------------------------ root */
 
 /* "quality": {"preset": NAME, SETTING: VALUE, ...}: checked by applying it
@@ -785,7 +846,7 @@ static xrad_status parse_quality(ctx *c, const cJSON *j, xrad_scene *sc, xrad_qu
 static xrad_status parse_root(ctx *c, const cJSON *root)
 {
     static const char *const keys[] = {"name",    "unit",   "density", "materials",
-                                       "objects", "camera", "quality", NULL};
+                                       "objects", "camera", "quality", "luminaires", NULL};
     xrad_scene *sc = scene_builder_scene(c->b);
     c->where[0] = '\0';
     if (!cJSON_IsObject(root))
@@ -862,6 +923,17 @@ static xrad_status parse_root(ctx *c, const cJSON *root)
         if ((st = parse_object(c, it, k, material_count)))
             return st;
 
+    const cJSON *lums = member(root, "luminaires");
+    if (lums && !cJSON_IsArray(lums)) {
+        c->where[0] = '\0';
+        return fail(c, "luminaires", "must be an array, got %s", type_name(lums));
+    }
+    k = 0;
+    for (const cJSON *it = lums ? lums->child : NULL; it; it = it->next, k++)
+        if ((st = parse_luminaire(c, it, k)))
+            return st;
+
+    c->where[0] = '\0';
     const cJSON *cam = member(root, "camera");
     return cam ? parse_camera(c, cam) : XRAD_OK;
 }
@@ -952,6 +1024,9 @@ void xrad_scene_destroy(xrad_scene **scene)
     free(sc->surfaces);
     free(sc->elements);
     free(sc->element_albedo);
+    for (uint32_t k = 0; k < sc->luminaire_count; k++)
+        scene_luminaire_free(&sc->luminaires[k]);
+    free(sc->luminaires);
     for (uint32_t k = 0; k < sc->mesh_count; k++)
         free(sc->meshes[k].triangles);
     free(sc->meshes);

@@ -60,6 +60,7 @@
 #include "passes/hemicube_geometry.h"
 #include "passes/integrate.h"
 #include "radiosity.h"
+#include "scene/scene_luminaire.h"
 #include "solvers/solver.h"
 
 /* Render-target memory for one batch of radiosity hemicubes. */
@@ -93,7 +94,9 @@ typedef struct gather {
     double *dB;                /* 3 per element, the last bounce's change */
     double *D;                 /* 3 per element, sum_l F_el E_l: the direct light at the
                                   frames' pose (passes/direct.h) */
-    double emitted;            /* sum of area x emission over elements and channels */
+    double emitted;            /* sum of area x emission over elements and channels, and the
+                                  luminaires' light they reflect (direct_light) */
+    double emitted_surfaces;   /* that of the emission alone */
     double frames_time; /* pose the frames were built for */
 } gather;
 
@@ -195,14 +198,31 @@ static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
     if (st || !n)
         return st;
     solver_progress(s, "gather: direct", 1);
+    /* The luminaires' direct irradiance joins the emitters' (scene_
+     * luminaire.h): the first bounce reflects both, and what it reflects
+     * is power the stop compares with, as the emission's. */
+    const xrad_scene *scene = s->scene;
+    vec3 *lum = scene->luminaire_count ? calloc(n, sizeof(vec3)) : NULL;
+    if (scene->luminaire_count && !lum)
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "gather solver: out of host memory");
+    if (lum && (st = scene_luminaire_irradiance(scene, s->desc.time, lum, err))) {
+        free(lum);
+        return st;
+    }
     const vec4 *d = g->readback.alloc.mapped;
     uint32_t alarms = 0;
+    g->emitted = g->emitted_surfaces;
     for (uint32_t e = 0; e < n; e++) {
-        g->D[3 * e + 0] = d[e].x;
-        g->D[3 * e + 1] = d[e].y;
-        g->D[3 * e + 2] = d[e].z;
+        vec3 h = lum ? lum[e] : v3(0, 0, 0);
+        g->D[3 * e + 0] = d[e].x + h.x;
+        g->D[3 * e + 1] = d[e].y + h.y;
+        g->D[3 * e + 2] = d[e].z + h.z;
         alarms += d[e].w > 0;
+        if (lum && !s->gs.buried[e])
+            g->emitted += scene->elements[e].area *
+                          v3_dot(v3_mul(scene_element_albedo(scene, e), h), v3(1, 1, 1));
     }
+    free(lum);
     /* A CPU driver (lavapipe) ends every loop of an invocation past 65,535
      * iterations without a word; say where that may have happened rather
      * than hand back a solution darker than it should be. */
@@ -284,7 +304,7 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         for (int c = 0; c < 3; c++) {
             g->emission[3 * e + c] = em[c];
             g->albedo[3 * e + c] = al[c];
-            g->emitted += scene->elements[e].area * em[c];
+            g->emitted_surfaces += scene->elements[e].area * em[c];
         }
     }
     for (uint32_t k = 0; k < scene->surface_count; k++) {

@@ -9,6 +9,7 @@
 #include "gpu/context.h"
 #include "hemicube_shared.h"
 #include "radiosity.h"
+#include "scene/scene_luminaire.h"
 #include "solvers/hemicube_clusters.h"
 #include "solvers/surface_bvh.h"
 
@@ -307,11 +308,26 @@ xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, bool static
     if (!e)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for emission",
                          scene->path);
-    for (uint32_t i = 0; i < gs->element_count; i++) {
+    /* The luminaires' direct light, reflected: each lit element starts as
+     * though it emitted rho times it (scene_luminaire.h). */
+    vec3 *lum = scene->luminaire_count ? calloc(n, sizeof(vec3)) : NULL;
+    xrad_status s = scene->luminaire_count && !lum
+                        ? xrad_fail(err, XRAD_ERROR_SYSTEM,
+                                    "%s: out of host memory for the luminaires' light",
+                                    scene->path)
+                        : XRAD_OK;
+    if (!s && lum)
+        s = scene_luminaire_irradiance(scene, gs->time, lum, err);
+    for (uint32_t i = 0; !s && i < gs->element_count; i++) {
         const material *m = &scene->materials[scene->surfaces[scene->elements[i].surface].material];
-        e[i] = gpu_vec4(m->emission, 0);
+        vec3 b = m->emission;
+        if (lum)
+            b = v3_add(b, v3_mul(scene_element_albedo(scene, i), lum[i]));
+        e[i] = gpu_vec4(b, 0);
     }
-    xrad_status s = gpu_upload_buffer(ctx, &gs->B, 0, e, n * sizeof(*e), err);
+    free(lum);
+    if (!s)
+        s = gpu_upload_buffer(ctx, &gs->B, 0, e, n * sizeof(*e), err);
     for (uint32_t i = 0; static_only && i < gs->element_count; i++) {
         const surface *sf = &scene->surfaces[scene->elements[i].surface];
         if (scene->objects[sf->object].dynamic)
