@@ -418,6 +418,17 @@ static xrad_status scale_surfaces(ctx *c, uint32_t first, double scale)
  * (or absolute), all of them or one node's subtree, times S, in this
  * object's space; `mat` for every triangle, or UINT32_MAX for the file's
  * own materials. */
+/* A file the scene names (a model, a luminaire's), relative to the scene
+ * file's folder unless absolute. */
+static void beside_scene(const ctx *c, const char *file, char *out, size_t n)
+{
+    const char *slash = strrchr(c->file, '/');
+    if (file[0] != '/' && slash)
+        snprintf(out, n, "%.*s/%s", (int)(slash - c->file), c->file, file);
+    else
+        snprintf(out, n, "%s", file);
+}
+
 static xrad_status parse_mesh(ctx *c, const cJSON *j, const cJSON *mesh, uint32_t mat,
                               const char *object_where)
 {
@@ -442,12 +453,7 @@ static xrad_status parse_mesh(ctx *c, const cJSON *j, const cJSON *mesh, uint32_
         return fail(c, "mesh.file", "'%.200s' is not a model file xrad reads (.gltf, .glb, "
                     ".obj, .ply)", file->valuestring);
     char path[1024];
-    const char *slash = strrchr(c->file, '/');
-    if (file->valuestring[0] != '/' && slash)
-        snprintf(path, sizeof(path), "%.*s/%s", (int)(slash - c->file), c->file,
-                 file->valuestring);
-    else
-        snprintf(path, sizeof(path), "%s", file->valuestring);
+    beside_scene(c, file->valuestring, path, sizeof(path));
     double density = 0, scale = 1;
     bool has;
     if ((st = get_density(c, j, "density", &density, &has)) ||
@@ -785,13 +791,7 @@ static xrad_status parse_luminaire(ctx *c, const cJSON *j, uint32_t index)
             return fail(c, has_intensity ? "intensity" : "cone",
                         "a luminaire's file gives its distribution: no intensity, cone or "
                         "falloff beside it");
-        /* Relative to the scene file, as a mesh's. */
-        const char *slash = strrchr(c->file, '/');
-        if (file->valuestring[0] != '/' && slash)
-            snprintf(path, sizeof(path), "%.*s/%s", (int)(slash - c->file), c->file,
-                     file->valuestring);
-        else
-            snprintf(path, sizeof(path), "%s", file->valuestring);
+        beside_scene(c, file->valuestring, path, sizeof(path));
         d.file = path;
     } else if (!has_intensity) {
         return fail(c, "file", "missing: a luminaire has a photometric file (.ldt, .ies) or "

@@ -56,7 +56,8 @@ static xrad_scene *furnace_scene(void)
         &(xrad_scene_builder_desc){.name = "furnace", .density = 6}, &b, &err);
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = "m", .albedo = {0.9, 0.9, 0.9}, .emission = {1, 1, 1}}, &m, &err);
+            b, &(xrad_material_desc){.name = "m", .albedo = {0.9, 0.9, 0.9}, .emission = {1, 1, 1}},
+            &m, &err);
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "box"}, &err);
     for (int w = 0; w < 5 && !st; w++) {

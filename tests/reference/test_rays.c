@@ -48,7 +48,8 @@ static xrad_scene *plates(const occluder *occ, int count)
     uint32_t m = 0;
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = "m", .albedo = {0.5, 0.5, 0.5}, .emission = {1, 1, 1}}, &m, &err);
+            b, &(xrad_material_desc){.name = "m", .albedo = {0.5, 0.5, 0.5}, .emission = {1, 1, 1}},
+            &m, &err);
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "plates"}, &err);
     if (!st)

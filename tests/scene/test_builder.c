@@ -29,7 +29,9 @@ static xrad_scene_builder *start(uint32_t materials)
         char name[16];
         snprintf(name, sizeof(name), "m%u", k);
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = name, .albedo = {0.5, 0.5, 0.5}, .emission = {0, 0, 0}}, NULL, &err);
+            b,
+            &(xrad_material_desc){.name = name, .albedo = {0.5, 0.5, 0.5}, .emission = {0, 0, 0}},
+            NULL, &err);
     }
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "obj"}, &err);

@@ -142,8 +142,11 @@ static void builder_mesh(void)
     xrad_status st = xrad_scene_builder_create(
         &(xrad_scene_builder_desc){.name = "corners-test", .density = 10}, &b, &err);
     if (!st)
-        st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = "white", .albedo = {0.5, 0.5, 0.5}, .emission = {1, 1, 1}}, NULL, &err);
+        st = xrad_scene_builder_add_material(b,
+                                             &(xrad_material_desc){.name = "white",
+                                                                   .albedo = {0.5, 0.5, 0.5},
+                                                                   .emission = {1, 1, 1}},
+                                             NULL, &err);
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "obj"}, &err);
     if (!st)

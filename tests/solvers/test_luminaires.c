@@ -29,9 +29,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "gpu/gpu_test.h"
 #include "harness.h"
 #include "scene/scene.h"
+#include "solvers/solver_test.h"
 #include "xrad.h"
 
 #define PI 3.14159265358979323846
@@ -67,10 +67,10 @@ static xrad_scene *plane(light_kind kind)
         if (!st)
             st = xrad_scene_builder_add_quad(
                 b,
-                &(xrad_quad_desc){.name = "square",
-                                  .material = m,
-                                  .p = {{0, 0.6, -0.5}, {0, 0.6, 0.5}, {1, 0.6, 0.5},
-                                        {1, 0.6, -0.5}}},
+                &(xrad_quad_desc){
+                    .name = "square",
+                    .material = m,
+                    .p = {{0, 0.6, -0.5}, {0, 0.6, 0.5}, {1, 0.6, 0.5}, {1, 0.6, -0.5}}},
                 &err);
     }
     char path[1024];
@@ -141,37 +141,16 @@ static double worst_plane(const xrad_scene *sc, const xrad_atlas *a, light_kind 
         const float *t = &a->rgba[4 * ((size_t)e->texel_y * a->width + e->texel_x)];
         for (int c = 0; c < 3; c++)
             worst = fmax(worst, want > 0 ? fabs(t[c] / want - 1) : t[c] / top);
-
     }
     return worst;
 }
 
-static const struct {
-    const char *name;
-    xrad_method method;
-} methods[] = {
-    {"reference", 0},
-    {"gather", XRAD_METHOD_GATHER},
-    {"progressive", XRAD_METHOD_PROGRESSIVE},
-    {"incremental", XRAD_METHOD_INCREMENTAL},
-    {"cross", XRAD_METHOD_CROSS},
-};
-
-static xrad_status solve(xrad_context *ctx, const xrad_scene *scene, xrad_method method,
-                         xrad_atlas *atlas, xrad_error *err)
+/* Solves with solver_test_methods[m]'s method at its defaults. */
+static xrad_status solve(xrad_context *ctx, const xrad_scene *scene, size_t m, xrad_atlas *atlas,
+                         xrad_error *err)
 {
-    xrad_status st = xrad_atlas_create(scene, atlas, err);
-    if (st)
-        return st;
-    if (!method)
-        return xrad_reference_solve(scene, &(xrad_reference_desc){.threads = 2}, atlas, NULL,
-                                    err);
-    xrad_solver *s = NULL;
-    if (!(st = xrad_solver_create(ctx, scene, &(xrad_solver_desc){.method = method}, &s, err)) &&
-        !(st = xrad_solver_solve(s, err)))
-        st = xrad_solver_read(s, atlas, err);
-    xrad_solver_destroy(&s);
-    return st;
+    xrad_solver_desc d = {.method = solver_test_methods[m].method};
+    return solver_test_solve(ctx, scene, &d, atlas, err);
 }
 
 static void closed_forms(xrad_context *ctx)
@@ -179,20 +158,20 @@ static void closed_forms(xrad_context *ctx)
     for (int kind = POINT; kind <= SHADOW; kind++) {
         xrad_scene *sc = plane((light_kind)kind);
         /* Every method on the plane alone; the reference for the rest. */
-        size_t count = ctx && kind == POINT ? sizeof(methods) / sizeof(methods[0]) : 1;
+        size_t count = ctx && kind == POINT ? SOLVER_TEST_METHODS : 1;
         for (size_t m = 0; sc && m < count; m++) {
             xrad_atlas a = {0};
             xrad_error err = {0};
-            xrad_status st = solve(ctx, sc, methods[m].method, &a, &err);
-            CHECK(st == XRAD_OK, "%s light, %s: %s", kind_name[kind], methods[m].name,
+            xrad_status st = solve(ctx, sc, m, &a, &err);
+            CHECK(st == XRAD_OK, "%s light, %s: %s", kind_name[kind], solver_test_methods[m].name,
                   err.message);
             if (!st) {
                 double w = worst_plane(sc, &a, (light_kind)kind);
                 double tol = kind == LDT || kind == IES ? 0.02 : 0.01;
                 fprintf(stderr, "%-6s light %-11s worst element %.2e off the closed form\n",
-                        kind_name[kind], methods[m].name, w);
+                        kind_name[kind], solver_test_methods[m].name, w);
                 CHECK(w <= tol, "%s light, %s: an element %.4f off rho I cos / d^2",
-                      kind_name[kind], methods[m].name, w);
+                      kind_name[kind], solver_test_methods[m].name, w);
             }
             xrad_atlas_destroy(&a);
         }
@@ -228,11 +207,11 @@ static void lit_room(xrad_context *ctx)
     for (int k = 0; k < 6 && !st; k++)
         st = xrad_scene_builder_add_quad(b, &q[k], &err);
     if (!st)
-        st = xrad_scene_builder_add_luminaire(
-            b,
-            &(xrad_luminaire_desc){
-                .name = "bulb", .intensity = {2, 2, 2}, .position = {1, Y - 0.3, 1}},
-            &err);
+        st = xrad_scene_builder_add_luminaire(b,
+                                              &(xrad_luminaire_desc){.name = "bulb",
+                                                                     .intensity = {2, 2, 2},
+                                                                     .position = {1, Y - 0.3, 1}},
+                                              &err);
     if (!st)
         st = xrad_scene_builder_finish(b, &sc, &err);
     CHECK(st == XRAD_OK, "luminaire room: %s", err.message);
@@ -241,17 +220,17 @@ static void lit_room(xrad_context *ctx)
     if (!st)
         st = solve(ctx, sc, 0, &ref, &err);
     CHECK(st == XRAD_OK, "luminaire room, reference: %s", err.message);
-    for (size_t k = 1; !st && k < sizeof(methods) / sizeof(methods[0]); k++) {
+    for (size_t k = 1; !st && k < SOLVER_TEST_METHODS; k++) {
         xrad_atlas a = {0};
-        st = solve(ctx, sc, methods[k].method, &a, &err);
-        CHECK(st == XRAD_OK, "luminaire room, %s: %s", methods[k].name, err.message);
+        st = solve(ctx, sc, k, &a, &err);
+        CHECK(st == XRAD_OK, "luminaire room, %s: %s", solver_test_methods[k].name, err.message);
         xrad_element_metrics em;
         if (!st && !(st = xrad_atlas_compare(sc, &a, &ref, &em, NULL, &err))) {
             fprintf(stderr, "luminaire room %-11s surface_error %.4f p95 %.4f\n",
-                    methods[k].name, em.surface_error, em.p95);
+                    solver_test_methods[k].name, em.surface_error, em.p95);
             CHECK(em.surface_error <= 0.05 && em.p95 <= 0.08,
-                  "luminaire room, %s: surface_error %.4f, element p95 %.4f", methods[k].name,
-                  em.surface_error, em.p95);
+                  "luminaire room, %s: surface_error %.4f, element p95 %.4f",
+                  solver_test_methods[k].name, em.surface_error, em.p95);
         }
         xrad_atlas_destroy(&a);
     }
@@ -266,8 +245,10 @@ static void scene_files(xrad_context *ctx)
         " \"objects\": [{\"name\": \"floor\", \"surfaces\": [{\"name\": \"plane\", \"material\":"
         " \"grey\", \"quad\": {\"origin\": [-2, 0, 2], \"u\": [4, 0, 0], \"v\": [0, 0, -4]}}]},"
         " {\"name\": \"box\", \"dynamic\": true, \"surfaces\": [{\"name\": \"top\", \"material\":"
-        " \"grey\", \"quad\": {\"origin\": [0, 0.3, 0.2], \"u\": [0.2, 0, 0], \"v\": [0, 0, -0.2]}}]}],\n"
-        " \"luminaires\": [{\"name\": \"lamp\", \"position\": [0, 1.2, 0], \"intensity\": [3, 3, 3],"
+        " \"grey\", \"quad\": {\"origin\": [0, 0.3, 0.2], \"u\": [0.2, 0, 0], \"v\": [0, 0, "
+        "-0.2]}}]}],\n"
+        " \"luminaires\": [{\"name\": \"lamp\", \"position\": [0, 1.2, 0], \"intensity\": [3, 3, "
+        "3],"
         " \"cone\": 60, \"falloff\": 10}]}";
     xrad_scene *sc = NULL;
     xrad_error err = {0};
@@ -280,10 +261,10 @@ static void scene_files(xrad_context *ctx)
                   "lit by a luminaire, yet: %s", xrad_scene_warning(sc, (uint32_t)w));
         for (int m = 3; ctx && m < 5; m++) {
             xrad_solver *s = NULL;
-            st = xrad_solver_create(ctx, sc, &(xrad_solver_desc){.method = methods[m].method},
-                                    &s, &err);
+            st = xrad_solver_create(
+                ctx, sc, &(xrad_solver_desc){.method = solver_test_methods[m].method}, &s, &err);
             CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "luminaire"),
-                  "%s with a luminaire and a moving box: %d '%s'", methods[m].name, st,
+                  "%s with a luminaire and a moving box: %d '%s'", solver_test_methods[m].name, st,
                   err.message);
             xrad_solver_destroy(&s);
         }

@@ -34,9 +34,9 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "gpu/gpu_test.h"
 #include "harness.h"
 #include "scene/scene.h"
+#include "solvers/solver_test.h"
 #include "xrad.h"
 
 static const float c1[3] = {0.2f, 0.4f, 0.6f}, c2[3] = {0.8f, 0.6f, 0.25f};
@@ -73,7 +73,7 @@ static double off(vec3 got, const double want[3])
 typedef struct mapped_scene {
     const xrad_image_desc *map; /* NULL: the material plain */
     double albedo;
-    const float *uvs;           /* mesh, 4 vertices */
+    const float *uvs; /* mesh, 4 vertices */
     const float *pos;
     const uint32_t *idx;
     uint32_t triangles;
@@ -91,9 +91,8 @@ static xrad_status build_mapped(const mapped_scene *d, xrad_scene **out, xrad_er
     if (!st)
         st = xrad_scene_builder_add_material(
             b,
-            &(xrad_material_desc){.name = "paint",
-                                  .albedo = {d->albedo, d->albedo, d->albedo},
-                                  .albedo_map = d->map},
+            &(xrad_material_desc){
+                .name = "paint", .albedo = {d->albedo, d->albedo, d->albedo}, .albedo_map = d->map},
             &m, err);
     if (!st)
         st = xrad_scene_builder_add_material(
@@ -103,9 +102,8 @@ static xrad_status build_mapped(const mapped_scene *d, xrad_scene **out, xrad_er
     if (!st && !d->pos)
         st = xrad_scene_builder_add_quad(
             b,
-            &(xrad_quad_desc){.name = "q",
-                              .material = m,
-                              .p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}},
+            &(xrad_quad_desc){
+                .name = "q", .material = m, .p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}}},
             err);
     if (!st && d->pos)
         st = xrad_scene_builder_add_mesh(b,
@@ -144,8 +142,8 @@ static void albedo_part(void)
                 double want[3];
                 for (int c = 0; c < 3; c++)
                     want[c] = 0.9 * (i < 2 ? c1[c] : i > 2 ? c2[c] : 0.5 * (c1[c] + c2[c]));
-                worst = fmax(worst, off(scene_element_albedo(sc, sf->first_element + j * sf->nu + i),
-                                        want));
+                worst = fmax(
+                    worst, off(scene_element_albedo(sc, sf->first_element + j * sf->nu + i), want));
             }
         fprintf(stderr, "quad, two halves: worst element %.2e off its colour\n", worst);
         CHECK(worst <= 1e-6, "quad: an element %.2e off the colour under it", worst);
@@ -195,13 +193,10 @@ static void albedo_part(void)
     two_colour(checker, 8, 8, 0, c1, c2);
     xrad_image_desc board = {8, 8, checker};
     static const uint32_t pair[6] = {0, 1, 2, 0, 2, 3};
-    st = build_mapped(&(mapped_scene){.map = &board,
-                                      .albedo = 0.5,
-                                      .uvs = uv_tri,
-                                      .pos = pos,
-                                      .idx = pair,
-                                      .triangles = 2},
-                      &sc, &err);
+    st = build_mapped(
+        &(mapped_scene){
+            .map = &board, .albedo = 0.5, .uvs = uv_tri, .pos = pos, .idx = pair, .triangles = 2},
+        &sc, &err);
     CHECK(st == XRAD_OK, "mapped pair: %s", err.message);
     if (!st) {
         double want[3];
@@ -218,37 +213,35 @@ static void albedo_part(void)
     xrad_scene_destroy(&sc);
     /* The same pair, its fourth corner's coordinates moved: two maps. */
     static const float uv_bent[8] = {0, 0, 1, 0, 1, 1, 0, 0.5f};
-    st = build_mapped(&(mapped_scene){.map = &board,
-                                      .albedo = 0.5,
-                                      .uvs = uv_bent,
-                                      .pos = pos,
-                                      .idx = pair,
-                                      .triangles = 2},
-                      &sc, &err);
+    st = build_mapped(
+        &(mapped_scene){
+            .map = &board, .albedo = 0.5, .uvs = uv_bent, .pos = pos, .idx = pair, .triangles = 2},
+        &sc, &err);
     CHECK(st == XRAD_OK && sc->surface_count == 2,
           "a pair of two maps: %s, %u surfaces, want 2 triangles", st ? err.message : "built",
           st ? 0 : sc->surface_count);
     xrad_scene_destroy(&sc);
 
     /* Errors name the field. */
-    st = build_mapped(&(mapped_scene){.map = &board, .albedo = 0.5, .pos = pos, .idx = pair,
-                                      .triangles = 2},
-                      &sc, &err);
+    st = build_mapped(
+        &(mapped_scene){.map = &board, .albedo = 0.5, .pos = pos, .idx = pair, .triangles = 2}, &sc,
+        &err);
     CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "uvs"),
           "a mapped mesh without uvs: %d '%s'", st, err.message);
     float nan_uv[8] = {0, 0, 1, 0, 1, 1, 0, NAN};
-    st = build_mapped(&(mapped_scene){.map = &board, .albedo = 0.5, .uvs = nan_uv, .pos = pos,
-                                      .idx = pair, .triangles = 2},
-                      &sc, &err);
-    CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "uvs[3]"),
-          "a NaN coordinate: %d '%s'", st, err.message);
+    st = build_mapped(
+        &(mapped_scene){
+            .map = &board, .albedo = 0.5, .uvs = nan_uv, .pos = pos, .idx = pair, .triangles = 2},
+        &sc, &err);
+    CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "uvs[3]"), "a NaN coordinate: %d '%s'", st,
+          err.message);
     checker[5] = 1.5f;
     st = build_mapped(&(mapped_scene){.map = &board, .albedo = 0.5}, &sc, &err);
     CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "albedo_map") &&
               strstr(err.message, "'paint'"),
           "a texel above 1: %d '%s'", st, err.message);
-    st = build_mapped(&(mapped_scene){.map = &(xrad_image_desc){0, 4, checker}, .albedo = 0.5},
-                      &sc, &err);
+    st = build_mapped(&(mapped_scene){.map = &(xrad_image_desc){0, 4, checker}, .albedo = 0.5}, &sc,
+                      &err);
     CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "albedo_map"),
           "a map 0 texels wide: %d '%s'", st, err.message);
     xrad_scene_destroy(&sc);
@@ -270,11 +263,13 @@ static xrad_scene *room(const xrad_image_desc *floor_map, double floor_albedo,
     double fa = floor_albedo, wa = wall_albedo;
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = "floor", .albedo = {fa, fa, fa}, .albedo_map = floor_map},
+            b,
+            &(xrad_material_desc){.name = "floor", .albedo = {fa, fa, fa}, .albedo_map = floor_map},
             &fl, &err);
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = "wall", .albedo = {wa, wa, wa}, .albedo_map = wall_map},
+            b,
+            &(xrad_material_desc){.name = "wall", .albedo = {wa, wa, wa}, .albedo_map = wall_map},
             &wl, &err);
     if (!st)
         st = xrad_scene_builder_add_material(
@@ -291,7 +286,9 @@ static xrad_scene *room(const xrad_image_desc *floor_map, double floor_albedo,
         {.name = "right", .material = wl, .p = {{X, 0, 0}, {X, 0, Z}, {X, Y, Z}, {X, Y, 0}}},
         {.name = "light",
          .material = lamp,
-         .p = {{0.75, Y - 0.001, 0.75}, {1.25, Y - 0.001, 0.75}, {1.25, Y - 0.001, 1.25},
+         .p = {{0.75, Y - 0.001, 0.75},
+               {1.25, Y - 0.001, 0.75},
+               {1.25, Y - 0.001, 1.25},
                {0.75, Y - 0.001, 1.25}}},
     };
     for (int k = 0; k < 7 && !st; k++)
@@ -303,36 +300,14 @@ static xrad_scene *room(const xrad_image_desc *floor_map, double floor_albedo,
     return sc;
 }
 
-static const struct {
-    const char *name;
-    xrad_method method;
-} methods[] = {
-    {"reference", 0},
-    {"gather", XRAD_METHOD_GATHER},
-    {"progressive", XRAD_METHOD_PROGRESSIVE},
-    {"incremental", XRAD_METHOD_INCREMENTAL},
-    {"cross", XRAD_METHOD_CROSS},
-};
-
-/* Solves with `method` (0: the CPU reference; gather: `bounces`, 0 until
- * converged) into atlas. */
-static xrad_status solve(xrad_context *ctx, const xrad_scene *scene, xrad_method method,
-                         uint32_t bounces, xrad_atlas *atlas, xrad_error *err)
+/* Solves with solver_test_methods[m]'s method (gather: `bounces`, 0 until
+ * converged). */
+static xrad_status solve(xrad_context *ctx, const xrad_scene *scene, size_t m, uint32_t bounces,
+                         xrad_atlas *atlas, xrad_error *err)
 {
-    xrad_status st = xrad_atlas_create(scene, atlas, err);
-    if (st)
-        return st;
-    if (!method)
-        return xrad_reference_solve(scene, &(xrad_reference_desc){.threads = 2}, atlas, NULL,
-                                    err);
-    xrad_solver *s = NULL;
-    xrad_solver_desc d = {.method = method,
-                          .bounces = method == XRAD_METHOD_GATHER ? bounces : 0};
-    if (!(st = xrad_solver_create(ctx, scene, &d, &s, err)) &&
-        !(st = xrad_solver_solve(s, err)))
-        st = xrad_solver_read(s, atlas, err);
-    xrad_solver_destroy(&s);
-    return st;
+    xrad_method method = solver_test_methods[m].method;
+    xrad_solver_desc d = {.method = method, .bounces = method == XRAD_METHOD_GATHER ? bounces : 0};
+    return solver_test_solve(ctx, scene, &d, atlas, err);
 }
 
 /* Largest |a - b| / max(b, 1e-3 max b) over element texels. */
@@ -357,21 +332,21 @@ static void constant_part(xrad_context *ctx)
     float grey[3] = {0.75f, 0.75f, 0.75f};
     xrad_image_desc flat = {1, 1, grey};
     xrad_scene *mapped = room(&flat, 0.8, &flat, 0.8), *plain = room(NULL, 0.6, NULL, 0.6);
-    for (size_t m = 0; mapped && plain && m < sizeof(methods) / sizeof(methods[0]); m++) {
+    for (size_t m = 0; mapped && plain && m < SOLVER_TEST_METHODS; m++) {
         xrad_atlas a = {0}, p = {0};
         xrad_error err = {0};
         /* Two bounces of gather: equal albedos give equal solutions at
          * any count, and each bounce is a hemicube per element. */
-        xrad_status st = solve(ctx, mapped, methods[m].method, 2, &a, &err);
+        xrad_status st = solve(ctx, mapped, m, 2, &a, &err);
         if (!st)
-            st = solve(ctx, plain, methods[m].method, 2, &p, &err);
-        CHECK(st == XRAD_OK, "constant map, %s: %s", methods[m].name, err.message);
+            st = solve(ctx, plain, m, 2, &p, &err);
+        CHECK(st == XRAD_OK, "constant map, %s: %s", solver_test_methods[m].name, err.message);
         if (!st) {
             double w = worst_rel(&a, &p);
             fprintf(stderr, "constant map %-11s worst element %.2e off albedo a c\n",
-                    methods[m].name, w);
+                    solver_test_methods[m].name, w);
             CHECK(w <= 1e-4, "%s: a constant map 0.75 x 0.8 is %.2e off albedo 0.6",
-                  methods[m].name, w);
+                  solver_test_methods[m].name, w);
         }
         xrad_atlas_destroy(&a);
         xrad_atlas_destroy(&p);
@@ -403,8 +378,7 @@ static void two_colour_part(xrad_context *ctx)
         for (uint32_t j = 1; j + 1 < sf->nv; j++)
             for (uint32_t i = 1; i < sf->nu / 2; i++) {
                 const element *e1 = &sc->elements[sf->first_element + j * sf->nu + i];
-                const element *e2 =
-                    &sc->elements[sf->first_element + j * sf->nu + sf->nu - 1 - i];
+                const element *e2 = &sc->elements[sf->first_element + j * sf->nu + sf->nu - 1 - i];
                 const float *b1 = &ref.rgba[4 * ((size_t)e1->texel_y * ref.width + e1->texel_x)];
                 const float *b2 = &ref.rgba[4 * ((size_t)e2->texel_y * ref.width + e2->texel_x)];
                 for (int c = 0; c < 3; c++)
@@ -421,10 +395,10 @@ static void two_colour_part(xrad_context *ctx)
         return;
     st = solve(ctx, sc, 0, 0, &ref, &err);
     CHECK(st == XRAD_OK, "two-colour floor, reference: %s", err.message);
-    for (size_t m = 1; !st && m < sizeof(methods) / sizeof(methods[0]); m++) {
+    for (size_t m = 1; !st && m < SOLVER_TEST_METHODS; m++) {
         xrad_atlas a = {0};
-        st = solve(ctx, sc, methods[m].method, 0, &a, &err);
-        CHECK(st == XRAD_OK, "two-colour floor, %s: %s", methods[m].name, err.message);
+        st = solve(ctx, sc, m, 0, &a, &err);
+        CHECK(st == XRAD_OK, "two-colour floor, %s: %s", solver_test_methods[m].name, err.message);
         if (!st) {
             xrad_element_metrics em;
             double ratio[7] = {0};
@@ -433,12 +407,12 @@ static void two_colour_part(xrad_context *ctx)
             fprintf(stderr,
                     "two-colour floor %-11s floor %.4f of the reference's, surface_error %.4f "
                     "p95 %.4f\n",
-                    methods[m].name, ratio[0], em.surface_error, em.p95);
+                    solver_test_methods[m].name, ratio[0], em.surface_error, em.p95);
             /* p95 too: an albedo by surface rather than by element keeps
              * the floor's mean and puts its elements 40% off. */
             CHECK(em.surface_error <= 0.05 && em.p95 <= 0.08,
-                  "two-colour floor, %s: surface_error %.4f, element p95 %.4f", methods[m].name,
-                  em.surface_error, em.p95);
+                  "two-colour floor, %s: surface_error %.4f, element p95 %.4f",
+                  solver_test_methods[m].name, em.surface_error, em.p95);
         }
         xrad_atlas_destroy(&a);
     }

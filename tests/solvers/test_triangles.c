@@ -24,8 +24,8 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "gpu/gpu_test.h"
 #include "harness.h"
+#include "solvers/solver_test.h"
 #include "xrad.h"
 
 typedef struct box_face {
@@ -146,7 +146,8 @@ static xrad_scene *furnace_scene(uint32_t grid)
         &b, &err);
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = "m", .albedo = {0.5, 0.5, 0.5}, .emission = {1, 1, 1}}, &m, &err);
+            b, &(xrad_material_desc){.name = "m", .albedo = {0.5, 0.5, 0.5}, .emission = {1, 1, 1}},
+            &m, &err);
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "box"}, &err);
     for (int k = 0; k < 6 && !st; k++)
@@ -176,10 +177,15 @@ static xrad_scene *lit_room(int triangles)
         &b, &err);
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = "wall", .albedo = {0.6, 0.6, 0.6}, .emission = {0, 0, 0}}, &wall, &err);
+            b,
+            &(xrad_material_desc){.name = "wall", .albedo = {0.6, 0.6, 0.6}, .emission = {0, 0, 0}},
+            &wall, &err);
     if (!st)
-        st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = "lamp", .albedo = {0.1, 0.1, 0.1}, .emission = {10, 10, 10}}, &lamp, &err);
+        st = xrad_scene_builder_add_material(b,
+                                             &(xrad_material_desc){.name = "lamp",
+                                                                   .albedo = {0.1, 0.1, 0.1},
+                                                                   .emission = {10, 10, 10}},
+                                             &lamp, &err);
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "room"}, &err);
     for (int k = 0; k < 6 && !st; k++)
@@ -235,18 +241,8 @@ static const struct {
 static xrad_status solve(xrad_context *ctx, const xrad_scene *scene, xrad_method method,
                          uint32_t conserve, xrad_atlas *atlas, xrad_error *err)
 {
-    xrad_status st = xrad_atlas_create(scene, atlas, err);
-    if (st)
-        return st;
-    if (!method)
-        return xrad_reference_solve(scene, &(xrad_reference_desc){.threads = 2}, atlas, NULL,
-                                    err);
-    xrad_solver *s = NULL;
-    xrad_solver_desc d = {.method = method, .conserve = conserve};
-    if (!(st = xrad_solver_create(ctx, scene, &d, &s, err)) && !(st = xrad_solver_solve(s, err)))
-        st = xrad_solver_read(s, atlas, err);
-    xrad_solver_destroy(&s);
-    return st;
+    return solver_test_solve(
+        ctx, scene, &(xrad_solver_desc){.method = method, .conserve = conserve}, atlas, err);
 }
 
 /* Worst relative deviation of any element from `want` (every channel),
