@@ -796,6 +796,7 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
         if ((st = check_coord(b, err, where, field, p)))
             return st;
     }
+    bool any_mapped = false;
     for (uint32_t t = 0; t < m->triangle_count; t++) {
         for (int k = 0; k < 3; k++)
             if (m->indices[3 * t + k] >= m->vertex_count)
@@ -811,8 +812,10 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
             return fail(b, err, where, "uvs",
                         "missing: triangle %u's material '%s' has an albedo map", t,
                         b->sc->materials[mat].name);
+        any_mapped = any_mapped || mapped(b, mat);
     }
-    for (uint32_t v = 0; m->uvs && v < m->vertex_count; v++)
+    /* Read (and so checked) only for a mapped material's triangles. */
+    for (uint32_t v = 0; any_mapped && v < m->vertex_count; v++)
         if (!(isfinite(m->uvs[2 * v]) && isfinite(m->uvs[2 * v + 1]) &&
               fabs(m->uvs[2 * v]) <= 1e6 && fabs(m->uvs[2 * v + 1]) <= 1e6)) {
             char field[48];

@@ -431,10 +431,11 @@ static xrad_status add_mesh(import_ctx *c, const struct aiNode *node,
     if (!st && file_material)
         st = import_material(c, mesh->mMaterialIndex, &mat);
     /* The mapped material's texture coordinates, v up as the builder
-     * takes them (assimp turns glTF's). */
+     * takes them (assimp turns glTF's); set 0 for a scene file's material
+     * in place of the file's (the builder reads them if it has a map). */
     float *uvs = NULL;
-    uint32_t channel = file_material ? c->map_channel[mesh->mMaterialIndex] : UINT32_MAX;
-    if (!st && channel != UINT32_MAX) {
+    uint32_t channel = file_material ? c->map_channel[mesh->mMaterialIndex] : 0;
+    if (!st && channel != UINT32_MAX && (file_material || mesh->mTextureCoords[0])) {
         if (!mesh->mTextureCoords[channel])
             st = xrad_fail(c->err, XRAD_ERROR_INPUT,
                            "%s: %s: its material's base colour texture reads texture "

@@ -15,6 +15,7 @@
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
 #include "scene/scene_luminaire.h"
+#include "scene/scene_texture.h"
 
 #define PI 3.14159265358979323846
 
@@ -230,6 +231,17 @@ static xrad_status get_density(ctx *c, const cJSON *obj, const char *key, double
     return XRAD_OK;
 }
 
+/* A file the scene names (a model, a luminaire's, an albedo map), relative to the scene
+ * file's folder unless absolute. */
+static void beside_scene(const ctx *c, const char *file, char *out, size_t n)
+{
+    const char *slash = strrchr(c->file, '/');
+    if (file[0] != '/' && slash)
+        snprintf(out, n, "%.*s/%s", (int)(slash - c->file), c->file, file);
+    else
+        snprintf(out, n, "%s", file);
+}
+
 static void put3(double out[3], vec3 v)
 {
     out[0] = v.x;
@@ -241,7 +253,7 @@ static void put3(double out[3], vec3 v)
 
 static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index)
 {
-    static const char *const keys[] = {"name", "albedo", "emission", NULL};
+    static const char *const keys[] = {"name", "albedo", "emission", "albedo_map", NULL};
     snprintf(c->where, sizeof(c->where), "material #%u: ", index);
     if (!cJSON_IsObject(j))
         return fail(c, NULL, "must be an object, got %s", type_name(j));
@@ -258,7 +270,34 @@ static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index)
     xrad_material_desc m = {.name = name};
     put3(m.albedo, albedo);
     put3(m.emission, emission);
-    return xrad_scene_builder_add_material(c->b, &m, NULL, c->err);
+    /* An image beside the scene file, sRGB (scene_texture.h). */
+    const cJSON *map = member(j, "albedo_map");
+    xrad_image_desc image = {0};
+    float *texels = NULL;
+    if (map) {
+        if (!cJSON_IsString(map) || !map->valuestring[0])
+            return fail(c, "albedo_map", "must be a non-empty string (an image file), got %s",
+                        type_name(map));
+        char path[1024], what[1200];
+        beside_scene(c, map->valuestring, path, sizeof(path));
+        snprintf(what, sizeof(what), "%s: %sfield 'albedo_map'", c->file, c->where);
+        char *data = NULL;
+        size_t size = 0;
+        st = scene_read_file(path, 256u << 20, &data, &size, c->err);
+        if (st)
+            xrad_error_prefix(c->err, "%s", what);
+        else
+            st = scene_texture_decode(data, size, true, what, &texels, &image.width,
+                                      &image.height, c->err);
+        free(data);
+        if (st)
+            return st;
+        image.rgb = texels;
+        m.albedo_map = &image;
+    }
+    st = xrad_scene_builder_add_material(c->b, &m, NULL, c->err);
+    free(texels);
+    return st;
 }
 
 /* -------------------------------------------------------------- surfaces */
@@ -418,17 +457,6 @@ static xrad_status scale_surfaces(ctx *c, uint32_t first, double scale)
  * (or absolute), all of them or one node's subtree, times S, in this
  * object's space; `mat` for every triangle, or UINT32_MAX for the file's
  * own materials. */
-/* A file the scene names (a model, a luminaire's), relative to the scene
- * file's folder unless absolute. */
-static void beside_scene(const ctx *c, const char *file, char *out, size_t n)
-{
-    const char *slash = strrchr(c->file, '/');
-    if (file[0] != '/' && slash)
-        snprintf(out, n, "%.*s/%s", (int)(slash - c->file), c->file, file);
-    else
-        snprintf(out, n, "%s", file);
-}
-
 static xrad_status parse_mesh(ctx *c, const cJSON *j, const cJSON *mesh, uint32_t mat,
                               const char *object_where)
 {

@@ -291,6 +291,49 @@ static void gltf_maps(void)
         }
         xrad_scene_destroy(&sc);
     }
+    /* A scene file's material with the PNG as its albedo_map on a quad
+     * (the quad's corners take (0, 0) (1, 0) (1, 1) (0, 1)), and the same
+     * map on the glTF's quad in place of its own material. */
+    if ((f = fopen(png, "wb"))) {
+        fwrite(bytes, 1, nb, f);
+        fclose(f);
+    }
+    char json[512];
+    snprintf(json, sizeof(json), "%s/scene.json", dir);
+    static const char scene_text[] =
+        "{\"materials\": [{\"name\": \"paint\", \"albedo\": [0.5, 0.5, 0.5], \"albedo_map\": "
+        "\"two.png\"}],\n \"objects\": [{\"name\": \"o\", \"surfaces\": [{\"name\": \"q\", "
+        "\"material\": \"paint\", \"density\": 20, \"quad\": {\"origin\": [0, 0, 0], \"u\": "
+        "[1, 0, 0], \"v\": [0, 1, 0]}}%s]}]}\n";
+    for (int pass = 0; pass < 3; pass++) {
+        if ((f = fopen(json, "wb"))) {
+            char text[1024];
+            snprintf(text, sizeof(text), scene_text,
+                     pass == 1 ? ", {\"name\": \"m\", \"material\": \"paint\", \"mesh\": "
+                                 "{\"file\": \"quad.gltf\"}}"
+                               : "");
+            if (pass == 2) /* the map missing */
+                remove(png);
+            fputs(text, f);
+            fclose(f);
+        }
+        st = xrad_scene_load(json, &sc, &err);
+        if (pass < 2) {
+            CHECK(st == XRAD_OK, "scene.json with an albedo_map (pass %d): %s", pass,
+                  err.message);
+            if (!st)
+                check_two_pixels(pass ? "scene.json: quad and glTF quad, its albedo_map"
+                                      : "scene.json: a quad's albedo_map",
+                                 sc);
+        } else {
+            CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "scene.json") &&
+                      strstr(err.message, "material 'paint'") &&
+                      strstr(err.message, "albedo_map") && strstr(err.message, "two.png"),
+                  "a missing albedo_map: %d '%s'", st, err.message);
+        }
+        xrad_scene_destroy(&sc);
+    }
+    remove(json);
     remove(png);
     remove(path);
     rmdir(dir);
