@@ -293,7 +293,7 @@ xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_ma
         if (!grow_zeroed((void **)&b->maps, &b->map_cap, sc->material_count + 1,
                          sizeof(scene_texture)))
             return out_of_memory(b, err);
-        char w[SCENE_NAME_MAX + 64];
+        char w[sizeof(b->file) + SCENE_NAME_MAX + 32];
         snprintf(w, sizeof(w), "%s: %s", b->file, where);
         if ((st = scene_texture_copy(m->albedo_map, &b->maps[sc->material_count], w, err))) {
             b->failed = true;

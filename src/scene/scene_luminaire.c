@@ -47,8 +47,8 @@ xrad_status scene_luminaire_setup(const xrad_luminaire_desc *d, const char *wher
     out->c90 = v3_cross(out->c0, out->aim);
     double scale = d->scale == 0 ? 1 : d->scale;
     if (!(scale > 0 && scale <= 1e6))
-        return xrad_fail(err, XRAD_ERROR_INPUT, "%sfield 'scale': must be in (0, 1e6], got %g", where,
-                         d->scale);
+        return xrad_fail(err, XRAD_ERROR_INPUT, "%sfield 'scale': must be in (0, 1e6], got %g",
+                         where, d->scale);
     out->cos_outer = -2;
     out->cos_inner = -2;
     if (d->file) {
@@ -70,16 +70,17 @@ xrad_status scene_luminaire_setup(const xrad_luminaire_desc *d, const char *wher
     for (int k = 0; k < 3; k++)
         if (!(d->intensity[k] >= 0 && d->intensity[k] <= SCENE_MAX_EMISSION))
             return xrad_fail(err, XRAD_ERROR_INPUT,
-                             "%sfield 'intensity': must be in [0, %g] W/sr per channel, got %g", where,
-                             SCENE_MAX_EMISSION, d->intensity[k]);
+                             "%sfield 'intensity': must be in [0, %g] W/sr per channel, got %g",
+                             where, SCENE_MAX_EMISSION, d->intensity[k]);
     if (!(d->intensity[0] + d->intensity[1] + d->intensity[2] > 0))
-        return xrad_fail(err, XRAD_ERROR_INPUT, "%sfield 'intensity': missing or zero (W/sr, 3 values)",
-                         where);
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%sfield 'intensity': missing or zero (W/sr, 3 values)", where);
     out->intensity = v3_scale(v3(d->intensity[0], d->intensity[1], d->intensity[2]), scale);
     if (d->cone_degrees != 0) {
         if (!(d->cone_degrees > 0 && d->cone_degrees <= 180))
-            return xrad_fail(err, XRAD_ERROR_INPUT, "%sfield 'cone': must be in (0, 180] degrees, got %g",
-                             where, d->cone_degrees);
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "%sfield 'cone': must be in (0, 180] degrees, got %g", where,
+                             d->cone_degrees);
         if (!(d->falloff_degrees >= 0 && d->falloff_degrees <= d->cone_degrees))
             return xrad_fail(err, XRAD_ERROR_INPUT,
                              "%sfield 'falloff': must be in [0, cone = %g] degrees, got %g", where,

@@ -19,20 +19,22 @@ xrad_status scene_texture_copy(const xrad_image_desc *d, scene_texture *out, con
     memset(out, 0, sizeof(*out));
     if (!d->rgb || d->width == 0 || d->height == 0 || d->width > SCENE_TEXTURE_MAX_SIDE ||
         d->height > SCENE_TEXTURE_MAX_SIDE)
-        return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "%salbedo_map: %u x %u texels%s: must be 1 to %u on a side with texels",
-                         where, d->width, d->height, d->rgb ? "" : " (rgb NULL)",
-                         SCENE_TEXTURE_MAX_SIDE);
+        return xrad_fail(
+            err, XRAD_ERROR_INPUT,
+            "%sfield 'albedo_map': %u x %u texels%s: must be 1 to %u on a side with texels", where,
+            d->width, d->height, d->rgb ? "" : " (rgb NULL)", SCENE_TEXTURE_MAX_SIDE);
     size_t n = (size_t)d->width * d->height * 3;
     for (size_t k = 0; k < n; k++)
         if (!(d->rgb[k] >= 0 && d->rgb[k] <= 1))
-            return xrad_fail(err, XRAD_ERROR_INPUT,
-                             "%salbedo_map: texel (%zu, %zu) channel %zu is %g, outside [0, 1]",
-                             where, k / 3 % d->width, k / 3 / d->width, k % 3, d->rgb[k]);
+            return xrad_fail(
+                err, XRAD_ERROR_INPUT,
+                "%sfield 'albedo_map': texel (%zu, %zu) channel %zu is %g, outside [0, 1]", where,
+                k / 3 % d->width, k / 3 / d->width, k % 3, d->rgb[k]);
     out->rgb = malloc(n * sizeof(float));
     if (!out->rgb)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%salbedo_map: out of memory for %u x %u texels",
-                         where, d->width, d->height);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM,
+                         "%sfield 'albedo_map': out of memory for %u x %u texels", where, d->width,
+                         d->height);
     memcpy(out->rgb, d->rgb, n * sizeof(float));
     out->width = d->width;
     out->height = d->height;

@@ -196,8 +196,8 @@ static void quad_gltf(char *out, size_t n, const char *image)
 }
 
 /* The 2 x 1 PNG: pixels (50, 100, 200) and (220, 160, 40). */
-static const char two_pixels_png[] =
-    "iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAIAAAB7QOjdAAAAD0lEQVR4nGMwSjlxZ4EGAApDAwNVlaTGAAAAAElFTkSuQmCC";
+static const char two_pixels_png[] = "iVBORw0KGgoAAAANSUhEUgAAAAIAAAABCAIAAAB7QOjdAAAAD0lEQVR4nGMwS"
+                                     "jlxZ4EGAApDAwNVlaTGAAAAAElFTkSuQmCC";
 
 static double srgb_decode(double v)
 {
@@ -458,7 +458,8 @@ static void broken_files(void)
 
     /* Placed by a scene file: its file, object and surface, then the model
      * file's node and mesh. */
-    bad("placed infinities", "{\"file\": \"" GLTF2 "BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb\"}",
+    bad("placed infinities",
+        "{\"file\": \"" GLTF2 "BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb\"}",
         (const char *const[]){"bad.json", "surface 'model'", "BoxWithInfinites.glb",
                               "node 'nodes_1'", "mesh 'Mesh'", "not finite", NULL});
 }
