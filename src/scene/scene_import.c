@@ -120,9 +120,11 @@ static xrad_status load_map(import_ctx *c, const char *tpath, const char *mname,
         const struct aiTexture *t = c->ai->mTextures[k];
         if (t->mHeight == 0) /* compressed: mWidth bytes of a PNG, a JPEG */
             return scene_texture_decode(t->pcData, t->mWidth, true, what, rgb, w, h, c->err);
-        if (t->mWidth > SCENE_TEXTURE_MAX_SIDE || t->mHeight > SCENE_TEXTURE_MAX_SIDE)
+        if (t->mWidth > SCENE_TEXTURE_MAX_SIDE || t->mHeight > SCENE_TEXTURE_MAX_SIDE ||
+            (uint64_t)t->mWidth * t->mHeight > SCENE_TEXTURE_MAX_TEXELS)
             return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: %u x %u texels, more than %u on a "
-                             "side", what, t->mWidth, t->mHeight, SCENE_TEXTURE_MAX_SIDE);
+                             "side or %u in all", what, t->mWidth, t->mHeight,
+                             SCENE_TEXTURE_MAX_SIDE, SCENE_TEXTURE_MAX_TEXELS);
         size_t n = (size_t)t->mWidth * t->mHeight;
         float *out = malloc(3 * n * sizeof(float));
         uint8_t *v = malloc(3 * n);

@@ -18,11 +18,13 @@ xrad_status scene_texture_copy(const xrad_image_desc *d, scene_texture *out, con
 {
     memset(out, 0, sizeof(*out));
     if (!d->rgb || d->width == 0 || d->height == 0 || d->width > SCENE_TEXTURE_MAX_SIDE ||
-        d->height > SCENE_TEXTURE_MAX_SIDE)
-        return xrad_fail(
-            err, XRAD_ERROR_INPUT,
-            "%sfield 'albedo_map': %u x %u texels%s: must be 1 to %u on a side with texels", where,
-            d->width, d->height, d->rgb ? "" : " (rgb NULL)", SCENE_TEXTURE_MAX_SIDE);
+        d->height > SCENE_TEXTURE_MAX_SIDE ||
+        (uint64_t)d->width * d->height > SCENE_TEXTURE_MAX_TEXELS)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%sfield 'albedo_map': %u x %u texels%s: must be 1 to %u on a side, %u "
+                         "in all, with texels",
+                         where, d->width, d->height, d->rgb ? "" : " (rgb NULL)",
+                         SCENE_TEXTURE_MAX_SIDE, SCENE_TEXTURE_MAX_TEXELS);
     size_t n = (size_t)d->width * d->height * 3;
     for (size_t k = 0; k < n; k++)
         if (!(d->rgb[k] >= 0 && d->rgb[k] <= 1))

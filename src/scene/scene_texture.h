@@ -14,8 +14,11 @@
 #include "core/error.h"
 #include "scene/scene.h"
 
-/* Largest map side: 16K texels (glTF files carry up to 8K). */
+/* Largest map side: 16K texels (glTF files carry up to 8K), and at most
+ * 64M texels in all (8K x 8K): the map is held as floats, 768 MB there,
+ * so that no file makes the loader allocate gigabytes. */
 #define SCENE_TEXTURE_MAX_SIDE 16384u
+#define SCENE_TEXTURE_MAX_TEXELS (64u << 20)
 
 /* A copy of xrad_image_desc: linear RGB, row 0 at v = 1. width 0: none. */
 typedef struct scene_texture {

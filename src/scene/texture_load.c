@@ -59,10 +59,12 @@ xrad_status scene_texture_decode(const void *data, size_t size, bool srgb, const
     if (!stbi_info_from_memory(data, (int)size, &w, &h, &n))
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: not an image xrad reads (%s)", what,
                          stbi_failure_reason());
+    /* Before stb_image allocates for it. */
     if (w <= 0 || h <= 0 || (uint32_t)w > SCENE_TEXTURE_MAX_SIDE ||
-        (uint32_t)h > SCENE_TEXTURE_MAX_SIDE)
-        return xrad_fail(err, XRAD_ERROR_INPUT, "%s: %d x %d pixels, more than %u on a side",
-                         what, w, h, SCENE_TEXTURE_MAX_SIDE);
+        (uint32_t)h > SCENE_TEXTURE_MAX_SIDE || (uint64_t)w * h > SCENE_TEXTURE_MAX_TEXELS)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "%s: %d x %d pixels, more than %u on a side or %u in all", what, w, h,
+                         SCENE_TEXTURE_MAX_SIDE, SCENE_TEXTURE_MAX_TEXELS);
     uint8_t *px = stbi_load_from_memory(data, (int)size, &w, &h, &n, 3);
     if (!px)
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: cannot decode: %s", what,

@@ -272,11 +272,18 @@ static void gltf_maps(void)
             bytes[nb++] = (unsigned char)(acc >> bits);
         }
     }
-    for (int pass = 0; pass < 3; pass++) {
+    for (int pass = 0; pass < 4; pass++) {
         remove(png);
         if (pass != 1 && (f = fopen(png, "wb"))) {
-            /* pass 2: the PNG cut short, not an image. */
-            fwrite(bytes, 1, pass == 0 ? nb : 20, f);
+            /* pass 2: the PNG cut short, not an image; pass 3: its header
+             * says 10000 x 10000 (IHDR width and height, big-endian, at
+             * bytes 16-23), more texels than a map may have, refused
+             * before anything is allocated for them. */
+            unsigned char big[128];
+            memcpy(big, bytes, nb);
+            for (int k = 0; k < 8; k++)
+                big[16 + k] = (unsigned char[]){0, 0, 0x27, 0x10}[k % 4];
+            fwrite(pass == 3 ? big : bytes, 1, pass == 2 ? 20 : nb, f);
             fclose(f);
         }
         st = xrad_scene_load(path, &sc, &err);
@@ -284,10 +291,11 @@ static void gltf_maps(void)
         if (!st && pass == 0)
             check_two_pixels("quad.gltf, PNG beside it", sc);
         if (!st && pass > 0) {
-            const char *const want[] = {"two.png", "not read", NULL};
+            const char *const want[] = {"two.png", "not read", pass == 3 ? "in all" : NULL,
+                                        NULL};
             CHECK(has_warning(sc, want) && !sc->element_albedo,
                   "quad.gltf, PNG %s: no warning naming it, or element albedos",
-                  pass == 1 ? "missing" : "cut short");
+                  pass == 1 ? "missing" : pass == 2 ? "cut short" : "of 10000 x 10000");
         }
         xrad_scene_destroy(&sc);
     }

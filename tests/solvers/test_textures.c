@@ -244,6 +244,14 @@ static void albedo_part(void)
                       &err);
     CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "albedo_map"),
           "a map 0 texels wide: %d '%s'", st, err.message);
+    /* 16384 x 8192: within the side, past the count; refused before any
+     * texel is read. */
+    st = build_mapped(
+        &(mapped_scene){.map = &(xrad_image_desc){16384, 8192, checker}, .albedo = 0.5}, &sc,
+        &err);
+    CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, "albedo_map") &&
+              strstr(err.message, "16384 x 8192"),
+          "a map of 128M texels: %d '%s'", st, err.message);
     xrad_scene_destroy(&sc);
 }
 
