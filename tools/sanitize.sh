@@ -6,7 +6,9 @@
 #   tools/sanitize.sh --setup sync     ... also with synchronization validation
 # Any sanitizer report fails its test. The Vulkan drivers stay loaded until
 # exit (src/gpu/driver_pin.c), so their unload causes no false leak and no
-# suppression list is needed. CC picks the compiler (default: cc, gcc).
+# suppression list is needed, except for the fault-injection test, where
+# lavapipe itself at times keeps its queue work after an injected device
+# loss (tests/gpu/lsan-lost-device.supp). CC picks the compiler (default: cc, gcc).
 set -eu
 cd "$(dirname "$0")/.."
 
