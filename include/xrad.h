@@ -134,6 +134,16 @@ typedef struct xrad_material_desc {
      * the surface shows. Copied. Meshes with the material give `uvs`; a
      * quad maps (0, 0) (1, 0) (1, 1) (0, 1) onto p0 p1 p2 p3. */
     const xrad_image_desc *albedo_map;
+    /* NULL: none. Else a tangent-space normal map (glTF normalTexture):
+     * rgb = (n + 1) / 2, linear, z towards the surface's front, tangent
+     * along increasing u and bitangent along increasing v (Wallner 3.3).
+     * Each element of a surface takes the normalised mean of the map's
+     * normals over its area as the normal of every cosine it takes as a
+     * receiver (the shooter's cosine stays the surface's: README
+     * "Normal maps"). The tangent frame is the face's (MikkTSpace's
+     * per-face tangent, exact on flat faces). Copied; `uvs` as for
+     * albedo_map. */
+    const xrad_image_desc *normal_map;
 } xrad_material_desc;
 
 /* *index (may be NULL) receives the material's index for the surfaces. */
@@ -197,7 +207,8 @@ typedef struct xrad_mesh_desc {
     double density;            /* elements per metre; 0: the object's */
     int keep_triangles;        /* do not join coplanar triangle pairs into quads */
     const float *uvs;          /* 2 per vertex, texture coordinates (u, v); needed where a
-                                  triangle's material has an albedo_map, else ignored */
+                                  triangle's material has an albedo_map or a normal_map,
+                                  else ignored */
 } xrad_mesh_desc;
 
 /* Adds a triangle mesh to the current object. Two triangles that share an
@@ -269,6 +280,8 @@ typedef struct xrad_scene_info {
     uint32_t meshes;                    /* triangle meshes (xrad_scene_get_mesh) */
     uint32_t albedo_maps;               /* materials with an albedo map */
     uint32_t mapped_elements;           /* elements whose albedo comes from one */
+    uint32_t normal_maps;               /* materials with a normal map */
+    uint32_t normal_mapped_elements;    /* elements whose normal comes from one */
     uint32_t luminaires;                /* xrad_scene_builder_add_luminaire, "luminaires" */
 } xrad_scene_info;
 

@@ -9,6 +9,7 @@ layout(location = 0) flat in uvec2 ids; // surface, triangle
 layout(location = 1) flat in vec3 origin;
 layout(location = 2) in vec3 rel;
 layout(location = 3) centroid in vec3 rel_c;
+layout(location = 4) flat in uint own;
 
 layout(location = 0) out uvec2 out_id;
 

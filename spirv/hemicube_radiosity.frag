@@ -44,6 +44,7 @@ layout(location = 0) flat in uvec2 ids; // surface, triangle
 layout(location = 1) flat in vec3 origin;
 layout(location = 2) in vec3 rel;
 layout(location = 3) centroid in vec3 rel_c;
+layout(location = 4) flat in uint own;
 
 layout(location = 0) out vec4 color;
 
@@ -78,8 +79,12 @@ void main()
     vec3 uvw = tri.uvw[0].xyz + b1 * (tri.uvw[1].xyz - tri.uvw[0].xyz) +
                b2 * (tri.uvw[2].xyz - tri.uvw[0].xyz);
     vec4 tile = tri.tile;
-    // Surfaces emit and reflect on their front side only (scene.h).
-    float front = tri.sign * dot(n, origin - p0) > 0.0 ? 1.0 : 0.0;
+    // Surfaces emit and reflect on their front side only (scene.h). The
+    // hemicube's own surface is black: it lies below the horizon of a
+    // hemicube on its normal, but a normal-mapped receiver's hemicube
+    // (gather, xrad.h normal_map) tilts, and its origin, a hair in front,
+    // saw the surface around it from above (a tilted floor 1% bright).
+    float front = tri.sign * dot(n, origin - p0) > 0.0 && ids.x != own ? 1.0 : 0.0;
     // u is undefined at a triangle's apex (w = 0): any u of the apex row.
     vec2 uv = vec2(uvw.z > 0.0 ? uvw.x / uvw.z : tile.x, uvw.y);
     vec2 p = clamp(uv, tile.xy, tile.zw);

@@ -26,6 +26,9 @@ layout(location = 2) out vec3 rel;          // m: the point from the origin, at 
 // atlas coordinate is taken, inside the triangle (its distance, the back
 // hemicubes' depth, stays at the centre, as the resolve expects).
 layout(location = 3) centroid out vec3 rel_c;
+// The surface the hemicube stands on (none for a group of mesh faces,
+// which may see each other): hemicube_radiosity.frag draws it black.
+layout(location = 4) flat out uint own;
 
 void main()
 {
@@ -58,4 +61,5 @@ void main()
     origin = o;
     rel = d;
     rel_c = d;
+    own = f.group != 0u ? 0xffffffffu : f.surface;
 }

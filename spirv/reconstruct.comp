@@ -362,7 +362,18 @@ void main()
         gpu_shooter sh = shooters[k];
         vec2 taken = vec2(0.0); // (centre's visibility, block by block)
         for (uint i = lane; i < pc.element_count; i += RECONSTRUCT_GROUP) {
-            float a = elements[i].pos_area.w * ff[k * pc.element_count + i];
+            // What the hemicube sends lands by the receivers' surface
+            // cosines: a normal-mapped receiver (xrad.h normal_map, whose
+            // factor ff[] holds with its mapped normal) counts here with
+            // its surface's, and its mapped factor is scaled as the rest
+            // (with the mapped factors the tilt itself was scaled away,
+            // 8% off on a floor tilted by 25 degrees, test_normal_maps).
+            float f = ff[k * pc.element_count + i];
+            uint si = elements[i].surface;
+            vec3 ng = surfaces[si].normal_area.xyz;
+            if (dot(elements[i].normal.xyz, ng) < 0.999999)
+                f = form_factor(k, receiver_point(i), ng, si);
+            float a = elements[i].pos_area.w * f;
             if (a == 0.0)
                 continue;
             if (CONSERVE_FAR &&

@@ -152,11 +152,13 @@ int cmd_info(int argc, char **argv)
                in.surfaces, in.surfaces - in.triangles, in.triangles, in.skipped_triangles);
     else
         printf("surfaces    %u\n", in.surfaces);
+    printf("materials   %u", in.materials);
     if (in.albedo_maps)
-        printf("materials   %u (%u with an albedo map, over %u elements)\n", in.materials,
-               in.albedo_maps, in.mapped_elements);
-    else
-        printf("materials   %u\n", in.materials);
+        printf(" (%u with an albedo map, over %u elements)", in.albedo_maps, in.mapped_elements);
+    if (in.normal_maps)
+        printf(" (%u with a normal map, over %u elements)", in.normal_maps,
+               in.normal_mapped_elements);
+    printf("\n");
     if (in.luminaires)
         printf("luminaires  %u\n", in.luminaires);
     printf("elements    %u (static %u, dynamic %u)\n", in.elements, in.static_elements,

@@ -45,7 +45,8 @@ typedef struct ref_geometry {
     uint32_t *surface_of;  /* per element */
     vec3 *recv;            /* per element, the receiving point (world) */
     vec3 *origin;          /* per element, the rays' origin: recv a hair along normal */
-    vec3 *normal;          /* per element, unit (world) */
+    vec3 *normal;          /* per element, unit (world): the receiver normal, its normal
+                              map's where it has one (scene_element_normal) */
     vec3 (*cell)[4];       /* per element, its cell's world corners, wound like its surface */
     ref_rays *bvh;         /* rays visibility (XRAD_VISIBILITY_RAYS): every pair by `rays`
                               Embree rays; NULL: exact clipping */

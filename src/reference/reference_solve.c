@@ -128,7 +128,13 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
         vec3 p = bilinear(q->p, sc, tc);
         g->surface_of[e] = el->surface;
         g->recv[e] = p;
+        /* The receiver normal: a normal map's where there is one (Wallner
+         * 3.3); rays still leave from the surface's front. */
         g->normal[e] = q->normal;
+        if (scene->element_normal) {
+            xform pose = scene_object_pose(scene, sf->object, time);
+            g->normal[e] = v3_norm(xf_dir(&pose, scene->element_normal[e]));
+        }
         g->origin[e] = v3_mad(p, q->normal, REF_RAY_HAIR * g->scale);
         g->cell[e][0] = bilinear(q->p, s0, t0);
         g->cell[e][1] = bilinear(q->p, s1, t0);
@@ -189,8 +195,10 @@ double ref_visible_fraction(const ref_geometry *g, uint32_t i, uint32_t target,
 static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const uint32_t *cand,
                          uint32_t count)
 {
-    return ref_visible_fraction(g, i, g->surface_of[j], g->cell[j], g->normal[j],
-                                ref_pair_seed(i, j), cand, count);
+    /* The shooter's cosine is its surface's (xrad.h normal_map). */
+    return ref_visible_fraction(g, i, g->surface_of[j], g->cell[j],
+                                g->quads[g->surface_of[j]].normal, ref_pair_seed(i, j), cand,
+                                count);
 }
 
 void ref_row_scratch_finish(ref_row_scratch *s)

@@ -180,6 +180,13 @@ struct xrad_scene {
      * without one. Read it through scene_element_albedo. */
     vec3 *element_albedo;
     uint32_t albedo_maps, mapped_elements; /* xrad_scene_info */
+    /* Per element, where a surface's material has a normal map (xrad.h
+     * xrad_material_desc.normal_map): the unit object-space normal of
+     * every cosine the element takes as a receiver (Wallner 3.3;
+     * scene_texture.c); NULL in a scene without one. Read it through
+     * scene_element_normal. */
+    vec3 *element_normal;
+    uint32_t normal_maps, normal_mapped_elements;
     uint32_t luminaire_count;
     luminaire *luminaires;
 
@@ -209,6 +216,15 @@ static inline vec3 scene_element_albedo(const xrad_scene *scene, uint32_t e)
     if (scene->element_albedo)
         return scene->element_albedo[e];
     return scene->materials[scene->surfaces[scene->elements[e].surface].material].albedo;
+}
+
+/* The receiver normal of element `e`, object space: its normal map's
+ * where its material has one, else its surface's. */
+static inline vec3 scene_element_normal(const xrad_scene *scene, uint32_t e)
+{
+    if (scene->element_normal)
+        return scene->element_normal[e];
+    return scene->surfaces[scene->elements[e].surface].normal;
 }
 
 /* The bilinear parametrisation of a surface, object space. */

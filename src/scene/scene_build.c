@@ -293,9 +293,13 @@ void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info)
     info->skipped_triangles = scene->skipped_triangles;
     info->meshes = scene->mesh_count;
     info->albedo_maps = scene->albedo_maps;
+    info->normal_maps = scene->normal_maps;
+    info->normal_mapped_elements = scene->normal_mapped_elements;
     info->mapped_elements = scene->mapped_elements;
     info->luminaires = scene->luminaire_count;
     if (scene->element_albedo)
+        bytes += (size_t)scene->element_count * sizeof(vec3);
+    if (scene->element_normal)
         bytes += (size_t)scene->element_count * sizeof(vec3);
     bytes += scene->mesh_count * sizeof(scene_mesh);
     for (uint32_t k = 0; k < scene->mesh_count; k++)

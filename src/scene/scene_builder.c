@@ -29,11 +29,11 @@ struct xrad_scene_builder {
     double density_scale; /* every density given times this */
     uint64_t elements;    /* so far, for the limit */
     uint32_t material_cap, object_cap, surface_cap, mesh_cap, luminaire_cap;
-    /* Albedo maps (scene_texture.h): per material once one has a map
-     * (width 0: none), and the texture coordinates of the surfaces with
-     * one; NULL in a scene without. The elements' albedos come from them
-     * at finish, and they go. */
-    scene_texture *maps;
+    /* Albedo and normal maps (scene_texture.h): per material once one has
+     * a map (width 0: none), and the texture coordinates of the surfaces
+     * with one; NULL in a scene without. The elements' albedos and
+     * normals come from them at finish, and they go. */
+    scene_material_maps *maps;
     uint32_t map_cap;
     scene_uv *uv;
     uint32_t uv_cap;
@@ -178,8 +178,10 @@ xrad_status xrad_scene_builder_create(const xrad_scene_builder_desc *desc,
 
 static void free_maps(xrad_scene_builder *b)
 {
-    for (uint32_t k = 0; k < b->map_cap; k++)
-        free(b->maps[k].rgb);
+    for (uint32_t k = 0; k < b->map_cap; k++) {
+        free(b->maps[k].albedo.rgb);
+        free(b->maps[k].normal.rgb);
+    }
     free(b->maps);
     free(b->uv);
     b->maps = NULL;
@@ -260,7 +262,7 @@ static bool grow_zeroed(void **array, uint32_t *cap, uint32_t n, size_t size)
 
 static bool mapped(const xrad_scene_builder *b, uint32_t mat)
 {
-    return mat < b->map_cap && b->maps[mat].width;
+    return mat < b->map_cap && (b->maps[mat].albedo.width || b->maps[mat].normal.width);
 }
 
 xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_material_desc *m,
@@ -289,13 +291,17 @@ xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_ma
     if (!grow((void **)&sc->materials, &b->material_cap, sc->material_count + 1,
               sizeof(material)))
         return out_of_memory(b, err);
-    if (m->albedo_map) {
+    if (m->albedo_map || m->normal_map) {
         if (!grow_zeroed((void **)&b->maps, &b->map_cap, sc->material_count + 1,
-                         sizeof(scene_texture)))
+                         sizeof(scene_material_maps)))
             return out_of_memory(b, err);
         char w[sizeof(b->file) + SCENE_NAME_MAX + 32];
         snprintf(w, sizeof(w), "%s: %s", b->file, where);
-        if ((st = scene_texture_copy(m->albedo_map, &b->maps[sc->material_count], w, err))) {
+        scene_material_maps *mm = &b->maps[sc->material_count];
+        if ((m->albedo_map &&
+             (st = scene_texture_copy(m->albedo_map, &mm->albedo, w, "albedo_map", err))) ||
+            (m->normal_map &&
+             (st = scene_texture_copy(m->normal_map, &mm->normal, w, "normal_map", err)))) {
             b->failed = true;
             return st;
         }
@@ -810,7 +816,7 @@ xrad_status xrad_scene_builder_add_mesh(xrad_scene_builder *b, const xrad_mesh_d
                         b->sc->material_count);
         if (mapped(b, mat) && !m->uvs)
             return fail(b, err, where, "uvs",
-                        "missing: triangle %u's material '%s' has an albedo map", t,
+                        "missing: triangle %u's material '%s' has an albedo or normal map", t,
                         b->sc->materials[mat].name);
         any_mapped = any_mapped || mapped(b, mat);
     }
@@ -1151,7 +1157,7 @@ xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, x
         default_camera(sc);
     warn_unlit(b);
     if ((st = scene_build_elements(sc, err)) ||
-        (b->uv && (st = scene_texture_albedos(sc, b->maps, b->map_cap, b->uv, err)))) {
+        (b->uv && (st = scene_texture_apply(sc, b->maps, b->map_cap, b->uv, err)))) {
         b->failed = true;
         return st;
     }

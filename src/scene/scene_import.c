@@ -103,11 +103,11 @@ static const char *clean(const char *in, char *out, size_t len)
     return out;
 }
 
-/* The base colour texture `tpath` of material `mname` (glTF
- * baseColorTexture, OBJ map_Kd) decoded into *rgb: embedded ("*N", a
- * .glb's images) or a file beside the model. */
-static xrad_status load_map(import_ctx *c, const char *tpath, const char *mname, float **rgb,
-                            uint32_t *w, uint32_t *h)
+/* The texture `tpath` of material `mname` (a base colour texture, glTF
+ * baseColorTexture or OBJ map_Kd, sRGB; a normal texture linear) decoded
+ * into *rgb: embedded ("*N", a .glb's images) or a file beside the model. */
+static xrad_status load_map(import_ctx *c, const char *tpath, const char *mname, bool srgb,
+                            float **rgb, uint32_t *w, uint32_t *h)
 {
     char what[700];
     snprintf(what, sizeof(what), "%s: material '%s': texture '%.200s'", c->path, mname, tpath);
@@ -119,7 +119,7 @@ static xrad_status load_map(import_ctx *c, const char *tpath, const char *mname,
                              c->ai->mNumTextures);
         const struct aiTexture *t = c->ai->mTextures[k];
         if (t->mHeight == 0) /* compressed: mWidth bytes of a PNG, a JPEG */
-            return scene_texture_decode(t->pcData, t->mWidth, true, what, rgb, w, h, c->err);
+            return scene_texture_decode(t->pcData, t->mWidth, srgb, what, rgb, w, h, c->err);
         if (t->mWidth > SCENE_TEXTURE_MAX_SIDE || t->mHeight > SCENE_TEXTURE_MAX_SIDE ||
             (uint64_t)t->mWidth * t->mHeight > SCENE_TEXTURE_MAX_TEXELS)
             return xrad_fail(c->err, XRAD_ERROR_INPUT, "%s: %u x %u texels, more than %u on a "
@@ -133,13 +133,13 @@ static xrad_status load_map(import_ctx *c, const char *tpath, const char *mname,
             free(v);
             return xrad_fail(c->err, XRAD_ERROR_SYSTEM, "%s: out of memory", what);
         }
-        /* Raw BGRA8, sRGB encoded. */
+        /* Raw BGRA8. */
         for (size_t p = 0; p < n; p++) {
             v[3 * p] = t->pcData[p].r;
             v[3 * p + 1] = t->pcData[p].g;
             v[3 * p + 2] = t->pcData[p].b;
         }
-        scene_texture_from_8bit(v, 3 * n, true, out);
+        scene_texture_from_8bit(v, 3 * n, srgb, out);
         free(v);
         *rgb = out;
         *w = t->mWidth;
@@ -160,11 +160,50 @@ static xrad_status load_map(import_ctx *c, const char *tpath, const char *mname,
     size_t size = 0;
     xrad_status st = scene_read_file(full, 256u << 20, &data, &size, c->err);
     if (!st)
-        st = scene_texture_decode(data, size, true, what, rgb, w, h, c->err);
+        st = scene_texture_decode(data, size, srgb, what, rgb, w, h, c->err);
     else
         xrad_error_prefix(c->err, "%s", what);
     free(data);
     return st;
+}
+
+/* Material am's first texture of `type`, if any, into *image (rgb
+ * malloc'd, NULL where there is none) and its coordinate set into
+ * *channel. One that cannot be read is left out with a warning (the
+ * first such reason kept); only running out of memory fails. */
+static xrad_status import_texture(import_ctx *c, const struct aiMaterial *am,
+                                  enum aiTextureType type, bool srgb, const char *mname,
+                                  xrad_image_desc *image, unsigned int *channel)
+{
+    struct aiString tpath = {0};
+    *image = (xrad_image_desc){0};
+    if (c->desc->material != UINT32_MAX || !aiGetMaterialTextureCount(am, type) ||
+        aiGetMaterialTexture(am, type, 0, &tpath, NULL, channel, NULL, NULL, NULL, NULL) !=
+            aiReturn_SUCCESS)
+        return XRAD_OK;
+    xrad_error why = {0};
+    xrad_error *keep = c->err;
+    c->err = &why;
+    float *texels = NULL;
+    xrad_status ms = *channel < AI_MAX_NUMBER_OF_TEXTURECOORDS
+                         ? load_map(c, tpath.data, mname, srgb, &texels, &image->width,
+                                    &image->height)
+                         : xrad_fail(&why, XRAD_ERROR_INPUT,
+                                     "%s: material '%s': texture coordinate set %u", c->path,
+                                     mname, *channel);
+    c->err = keep;
+    if (ms == XRAD_ERROR_SYSTEM) {
+        *c->err = why;
+        return ms;
+    }
+    if (ms) {
+        if (c->map_failed++ == 0)
+            snprintf(c->map_failed_why, sizeof(c->map_failed_why), "%s", why.message);
+        *image = (xrad_image_desc){0};
+        return XRAD_OK;
+    }
+    image->rgb = texels;
+    return XRAD_OK;
 }
 
 /* Builder index of assimp material m, added on first use. */
@@ -232,39 +271,33 @@ static xrad_status import_material(import_ctx *c, uint32_t m, uint32_t *out)
     enum aiTextureType base_type = aiGetMaterialTextureCount(am, aiTextureType_BASE_COLOR)
                                        ? aiTextureType_BASE_COLOR
                                        : aiTextureType_DIFFUSE;
-    struct aiString tpath = {0};
-    unsigned int channel = 0;
-    float *texels = NULL;
-    xrad_image_desc map = {0};
-    if (c->desc->material == UINT32_MAX && aiGetMaterialTextureCount(am, base_type) &&
-        aiGetMaterialTexture(am, base_type, 0, &tpath, NULL, &channel, NULL, NULL, NULL, NULL) ==
-            aiReturn_SUCCESS) {
-        xrad_error why = {0};
-        xrad_error *keep = c->err;
-        c->err = &why;
-        xrad_status ms = channel < AI_MAX_NUMBER_OF_TEXTURECOORDS
-                             ? load_map(c, tpath.data, mname, &texels, &map.width, &map.height)
-                             : xrad_fail(&why, XRAD_ERROR_INPUT,
-                                         "%s: material '%s': texture coordinate set %u", c->path,
-                                         mname, channel);
-        c->err = keep;
-        if (ms == XRAD_ERROR_SYSTEM) {
-            *c->err = why;
-            return ms;
-        }
-        if (ms) {
-            if (c->map_failed++ == 0)
-                snprintf(c->map_failed_why, sizeof(c->map_failed_why), "%s", why.message);
-        } else {
-            map.rgb = texels;
-            c->map_channel[m] = channel;
-            c->maps++;
-        }
+    xrad_image_desc map = {0}, normals = {0};
+    unsigned int channel = 0, normal_channel = 0;
+    xrad_status st;
+    if ((st = import_texture(c, am, base_type, true, mname, &map, &channel)) ||
+        (st = import_texture(c, am, aiTextureType_NORMALS, false, mname, &normals,
+                             &normal_channel))) {
+        free((void *)map.rgb);
+        return st;
     }
-    /* Textures xrad does not model (normal, emissive, metal-roughness,
+    if (map.rgb && normals.rgb && channel != normal_channel) {
+        /* One coordinate set per material (xrad_mesh_desc.uvs). */
+        if (c->map_failed++ == 0)
+            snprintf(c->map_failed_why, sizeof(c->map_failed_why),
+                     "%s: material '%s': normal texture on coordinate set %u, the base colour "
+                     "on %u: the normal texture is left out",
+                     c->path, mname, normal_channel, channel);
+        free((void *)normals.rgb);
+        normals = (xrad_image_desc){0};
+    }
+    if (map.rgb || normals.rgb) {
+        c->map_channel[m] = map.rgb ? channel : normal_channel;
+        c->maps += (map.rgb != NULL) + (normals.rgb != NULL);
+    }
+    /* Textures xrad does not model (emissive, metal-roughness,
      * occlusion), counted for a warning. */
     static const enum aiTextureType textured[] = {
-        aiTextureType_EMISSIVE, aiTextureType_NORMALS, aiTextureType_EMISSION_COLOR,
+        aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR,
         aiTextureType_METALNESS, aiTextureType_DIFFUSE_ROUGHNESS,
         aiTextureType_AMBIENT_OCCLUSION, aiTextureType_UNKNOWN};
     for (size_t k = 0; k < sizeof(textured) / sizeof(textured[0]); k++)
@@ -282,11 +315,14 @@ static xrad_status import_material(import_ctx *c, uint32_t m, uint32_t *out)
         transmission > 0)
         c->transmissive++;
 
-    xrad_material_desc md = {.name = mname, .albedo_map = map.rgb ? &map : NULL};
+    xrad_material_desc md = {.name = mname,
+                             .albedo_map = map.rgb ? &map : NULL,
+                             .normal_map = normals.rgb ? &normals : NULL};
     memcpy(md.albedo, albedo, sizeof(albedo));
     memcpy(md.emission, emission, sizeof(emission));
-    xrad_status st = xrad_scene_builder_add_material(c->b, &md, out, c->err);
-    free(texels);
+    st = xrad_scene_builder_add_material(c->b, &md, out, c->err);
+    free((void *)map.rgb);
+    free((void *)normals.rgb);
     if (!st)
         c->material_index[m] = *out;
     return st;
@@ -1042,11 +1078,11 @@ static xrad_status import_scene(xrad_scene_builder *b, const char *path, struct 
         st = take_camera(&c);
     if (!st) {
         if (c.textured)
-            scene_builder_warn(b, "%s: %u material(s) with normal, emissive, metal-roughness or "
-                               "occlusion textures: ignored", path, c.textured);
+            scene_builder_warn(b, "%s: %u material(s) with emissive, metal-roughness or occlusion "
+                               "textures: ignored", path, c.textured);
         if (c.map_failed)
-            scene_builder_warn(b, "%s: %u base colour texture(s) not read, the colour factor "
-                               "used alone (first: %s)", path, c.map_failed, c.map_failed_why);
+            scene_builder_warn(b, "%s: %u base colour or normal texture(s) not read, the "
+                               "colour factor or the face's normal used alone (first: %s)", path, c.map_failed, c.map_failed_why);
         if (c.metallic)
             scene_builder_warn(b, "%s: %u material(s) metallic: ignored (diffuse only)", path,
                                c.metallic);

@@ -156,6 +156,9 @@ xrad_status scene_luminaire_irradiance(const xrad_scene *scene, double time, vec
             /* The sample point just off the surface: a luminaire on a
              * surface lights what its segment reaches. */
             vec3 x = v3_mad(xf_point(&pose, scene->elements[e].pos), n, 1e-7 * rs.diameter);
+            /* The receiver's cosine takes its normal map's normal (Wallner
+             * 3.3); light from behind its surface's plane stays out. */
+            vec3 nr = scene->element_normal ? v3_norm(xf_dir(&pose, scene->element_normal[e])) : n;
             vec3 sum = v3(0, 0, 0);
             for (uint32_t i = 0; i < scene->luminaire_count; i++) {
                 const luminaire *l = &scene->luminaires[i];
@@ -164,8 +167,8 @@ xrad_status scene_luminaire_irradiance(const xrad_scene *scene, double time, vec
                 if (!(r2 > 0))
                     continue;
                 vec3 w = v3_scale(d, 1 / sqrt(r2));
-                double cr = v3_dot(n, w); /* the receiver's cosine */
-                if (cr <= 0)
+                double cr = v3_dot(nr, w); /* the receiver's cosine */
+                if (cr <= 0 || v3_dot(n, w) <= 0)
                     continue;
                 vec3 I = scene_luminaire_intensity(l, v3_scale(w, -1));
                 if (I.x + I.y + I.z <= 0 || scene_rays_blocked(&rs, x, l->position, s))

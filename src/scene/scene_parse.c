@@ -251,9 +251,38 @@ static void put3(double out[3], vec3 v)
 
 /* ------------------------------------------------------------- materials */
 
+/* Material field `key`, if there, names an image beside the scene file:
+ * *image gets its texels (malloc'd; rgb NULL where the field is absent). */
+static xrad_status read_map(ctx *c, const cJSON *j, const char *key, bool srgb,
+                            xrad_image_desc *image)
+{
+    const cJSON *map = member(j, key);
+    if (!map)
+        return XRAD_OK;
+    if (!cJSON_IsString(map) || !map->valuestring[0])
+        return fail(c, key, "must be a non-empty string (an image file), got %s",
+                    type_name(map));
+    char path[1024], what[1200];
+    beside_scene(c, map->valuestring, path, sizeof(path));
+    snprintf(what, sizeof(what), "%s: %sfield '%s'", c->file, c->where, key);
+    char *data = NULL;
+    size_t size = 0;
+    float *texels = NULL;
+    xrad_status st = scene_read_file(path, 256u << 20, &data, &size, c->err);
+    if (st)
+        xrad_error_prefix(c->err, "%s", what);
+    else
+        st = scene_texture_decode(data, size, srgb, what, &texels, &image->width,
+                                  &image->height, c->err);
+    free(data);
+    image->rgb = texels;
+    return st;
+}
+
 static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index)
 {
-    static const char *const keys[] = {"name", "albedo", "emission", "albedo_map", NULL};
+    static const char *const keys[] = {"name", "albedo", "emission", "albedo_map", "normal_map",
+                                       NULL};
     snprintf(c->where, sizeof(c->where), "material #%u: ", index);
     if (!cJSON_IsObject(j))
         return fail(c, NULL, "must be an object, got %s", type_name(j));
@@ -270,33 +299,19 @@ static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index)
     xrad_material_desc m = {.name = name};
     put3(m.albedo, albedo);
     put3(m.emission, emission);
-    /* An image beside the scene file, sRGB (scene_texture.h). */
-    const cJSON *map = member(j, "albedo_map");
-    xrad_image_desc image = {0};
-    float *texels = NULL;
-    if (map) {
-        if (!cJSON_IsString(map) || !map->valuestring[0])
-            return fail(c, "albedo_map", "must be a non-empty string (an image file), got %s",
-                        type_name(map));
-        char path[1024], what[1200];
-        beside_scene(c, map->valuestring, path, sizeof(path));
-        snprintf(what, sizeof(what), "%s: %sfield 'albedo_map'", c->file, c->where);
-        char *data = NULL;
-        size_t size = 0;
-        st = scene_read_file(path, 256u << 20, &data, &size, c->err);
-        if (st)
-            xrad_error_prefix(c->err, "%s", what);
-        else
-            st = scene_texture_decode(data, size, true, what, &texels, &image.width,
-                                      &image.height, c->err);
-        free(data);
-        if (st)
-            return st;
-        image.rgb = texels;
-        m.albedo_map = &image;
+    /* Images beside the scene file: the albedo map sRGB, the normal map
+     * linear (scene_texture.h). */
+    xrad_image_desc albedo_map = {0}, normal_map = {0};
+    if ((st = read_map(c, j, "albedo_map", true, &albedo_map)) ||
+        (st = read_map(c, j, "normal_map", false, &normal_map))) {
+        free((void *)albedo_map.rgb);
+        return st;
     }
+    m.albedo_map = albedo_map.rgb ? &albedo_map : NULL;
+    m.normal_map = normal_map.rgb ? &normal_map : NULL;
     st = xrad_scene_builder_add_material(c->b, &m, NULL, c->err);
-    free(texels);
+    free((void *)albedo_map.rgb);
+    free((void *)normal_map.rgb);
     return st;
 }
 
@@ -1052,6 +1067,7 @@ void xrad_scene_destroy(xrad_scene **scene)
     free(sc->surfaces);
     free(sc->elements);
     free(sc->element_albedo);
+    free(sc->element_normal);
     for (uint32_t k = 0; k < sc->luminaire_count; k++)
         scene_luminaire_free(&sc->luminaires[k]);
     free(sc->luminaires);

@@ -1,4 +1,4 @@
-/* Albedo maps -> element albedos (scene_texture.h). */
+/* Albedo and normal maps -> element albedos and normals (scene_texture.h). */
 #include "scene/scene_texture.h"
 
 #include <math.h>
@@ -14,28 +14,28 @@
 #define TEXTURE_MAX_SAMPLES 48
 
 xrad_status scene_texture_copy(const xrad_image_desc *d, scene_texture *out, const char *where,
-                               xrad_error *err)
+                               const char *field, xrad_error *err)
 {
     memset(out, 0, sizeof(*out));
     if (!d->rgb || d->width == 0 || d->height == 0 || d->width > SCENE_TEXTURE_MAX_SIDE ||
         d->height > SCENE_TEXTURE_MAX_SIDE ||
         (uint64_t)d->width * d->height > SCENE_TEXTURE_MAX_TEXELS)
         return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "%sfield 'albedo_map': %u x %u texels%s: must be 1 to %u on a side, %u "
+                         "%sfield '%s': %u x %u texels%s: must be 1 to %u on a side, %u "
                          "in all, with texels",
-                         where, d->width, d->height, d->rgb ? "" : " (rgb NULL)",
+                         where, field, d->width, d->height, d->rgb ? "" : " (rgb NULL)",
                          SCENE_TEXTURE_MAX_SIDE, SCENE_TEXTURE_MAX_TEXELS);
     size_t n = (size_t)d->width * d->height * 3;
     for (size_t k = 0; k < n; k++)
         if (!(d->rgb[k] >= 0 && d->rgb[k] <= 1))
             return xrad_fail(
                 err, XRAD_ERROR_INPUT,
-                "%sfield 'albedo_map': texel (%zu, %zu) channel %zu is %g, outside [0, 1]", where,
-                k / 3 % d->width, k / 3 / d->width, k % 3, d->rgb[k]);
+                "%sfield '%s': texel (%zu, %zu) channel %zu is %g, outside [0, 1]", where,
+                field, k / 3 % d->width, k / 3 / d->width, k % 3, d->rgb[k]);
     out->rgb = malloc(n * sizeof(float));
     if (!out->rgb)
         return xrad_fail(err, XRAD_ERROR_SYSTEM,
-                         "%sfield 'albedo_map': out of memory for %u x %u texels", where, d->width,
+                         "%sfield '%s': out of memory for %u x %u texels", where, field, d->width,
                          d->height);
     memcpy(out->rgb, d->rgb, n * sizeof(float));
     out->width = d->width;
@@ -109,33 +109,81 @@ vec3 scene_texture_mean(const scene_texture *tex, const surface *sf, const scene
     return v3(sum[0] / weight, sum[1] / weight, sum[2] / weight);
 }
 
-xrad_status scene_texture_albedos(xrad_scene *scene, const scene_texture *maps,
-                                  uint32_t map_count, const scene_uv *uv, xrad_error *err)
+vec3 scene_texture_normal(const surface *sf, const scene_uv *uv, vec3 mean)
 {
-    scene->element_albedo = malloc((size_t)(scene->element_count ? scene->element_count : 1) *
-                                   sizeof(vec3));
-    if (!scene->element_albedo)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for %u element albedos",
+    vec3 n = sf->normal;
+    /* The face's tangent and bitangent: dP/du and dP/dv of the affine map
+     * through corners 0, 1 and 3 (the apex, p[3] = p[2], on a triangle). */
+    vec3 e1 = v3_sub(sf->p[1], sf->p[0]), e2 = v3_sub(sf->p[3], sf->p[0]);
+    double du1 = uv->uv[1][0] - uv->uv[0][0], dv1 = uv->uv[1][1] - uv->uv[0][1];
+    double du2 = uv->uv[3][0] - uv->uv[0][0], dv2 = uv->uv[3][1] - uv->uv[0][1];
+    double det = du1 * dv2 - du2 * dv1;
+    vec3 t = v3_scale(v3_sub(v3_scale(e1, dv2), v3_scale(e2, dv1)), 1 / det);
+    vec3 b = v3_scale(v3_sub(v3_scale(e2, du1), v3_scale(e1, du2)), 1 / det);
+    t = v3_sub(t, v3_scale(n, v3_dot(n, t)));
+    double tl = v3_len(t);
+    if (!(fabs(det) > 1e-20 && tl > 0 && isfinite(tl)))
+        return n;
+    t = v3_scale(t, 1 / tl);
+    /* glTF: bitangent = cross(normal, tangent) x w, w the handedness. */
+    vec3 bt = v3_cross(n, t);
+    if (v3_dot(bt, b) < 0)
+        bt = v3_scale(bt, -1);
+    vec3 m = v3_add(v3_add(v3_scale(t, 2 * mean.x - 1), v3_scale(bt, 2 * mean.y - 1)),
+                    v3_scale(n, 2 * mean.z - 1));
+    if (!(v3_len(m) > 0))
+        return n;
+    m = v3_norm(m);
+    double h = v3_dot(m, n);
+    if (h < 0.05) {
+        /* Lift it to 0.05 above the horizon, keeping its azimuth. */
+        vec3 side = v3_sub(m, v3_scale(n, h));
+        double sl = v3_len(side);
+        side = sl > 0 ? v3_scale(side, 1 / sl) : t;
+        m = v3_add(v3_scale(side, sqrt(1 - 0.05 * 0.05)), v3_scale(n, 0.05));
+    }
+    return m;
+}
+
+xrad_status scene_texture_apply(xrad_scene *scene, const scene_material_maps *maps,
+                                uint32_t map_count, const scene_uv *uv, xrad_error *err)
+{
+    for (uint32_t k = 0; k < map_count && k < scene->material_count; k++) {
+        scene->albedo_maps += maps[k].albedo.width > 0;
+        scene->normal_maps += maps[k].normal.width > 0;
+    }
+    bool albedo = scene->albedo_maps > 0, normal = scene->normal_maps > 0;
+    size_t n = scene->element_count ? scene->element_count : 1;
+    if ((albedo && !(scene->element_albedo = malloc(n * sizeof(vec3)))) ||
+        (normal && !(scene->element_normal = malloc(n * sizeof(vec3)))))
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for %u element maps",
                          scene->path, scene->element_count);
-    for (uint32_t k = 0; k < map_count && k < scene->material_count; k++)
-        scene->albedo_maps += maps[k].width > 0;
     for (uint32_t si = 0; si < scene->surface_count; si++) {
         const surface *sf = &scene->surfaces[si];
         const material *m = &scene->materials[sf->material];
-        const scene_texture *tex = sf->material < map_count ? &maps[sf->material] : NULL;
+        const scene_material_maps *mm = sf->material < map_count ? &maps[sf->material] : NULL;
         for (uint32_t k = 0; k < sf->nu * sf->nv; k++) {
             uint32_t e = sf->first_element + k;
-            if (!tex || !tex->width) {
-                scene->element_albedo[e] = m->albedo;
-                continue;
-            }
-            scene->mapped_elements++;
             double s0, s1, t0, t1;
             scene_param_range(k % sf->nu, k % sf->nu, sf->nu, &s0, &s1);
             scene_param_range(k / sf->nu, k / sf->nu, sf->nv, &t0, &t1);
-            /* glTF: base colour factor x texture. */
-            scene->element_albedo[e] =
-                v3_mul(m->albedo, scene_texture_mean(tex, sf, &uv[si], s0, s1, t0, t1));
+            if (albedo) {
+                scene->element_albedo[e] = m->albedo;
+                if (mm && mm->albedo.width) {
+                    scene->mapped_elements++;
+                    /* glTF: base colour factor x texture. */
+                    scene->element_albedo[e] = v3_mul(
+                        m->albedo, scene_texture_mean(&mm->albedo, sf, &uv[si], s0, s1, t0, t1));
+                }
+            }
+            if (normal) {
+                scene->element_normal[e] = sf->normal;
+                if (mm && mm->normal.width) {
+                    scene->normal_mapped_elements++;
+                    scene->element_normal[e] = scene_texture_normal(
+                        sf, &uv[si], scene_texture_mean(&mm->normal, sf, &uv[si], s0, s1, t0, t1));
+                }
+            }
         }
     }
     return XRAD_OK;

@@ -1,8 +1,9 @@
 /*
- * Albedo maps in the solve (issue 18.1; Wallner 3.1 gives each element the
- * texture under it): the builder keeps the materials' maps and the
- * surfaces' texture coordinates, and at finish each element of a mapped
- * surface takes the map's mean over its area (scene.h element_albedo).
+ * Albedo and normal maps in the solve (issue 18.1, 18.2; Wallner 3.1 gives
+ * each element the texture under it, 3.3 the perturbed normal): the
+ * builder keeps the materials' maps and the surfaces' texture coordinates,
+ * and at finish each element of a mapped surface takes the maps' means
+ * over its area (scene.h element_albedo, element_normal).
  */
 #ifndef XRAD_SCENE_TEXTURE_H
 #define XRAD_SCENE_TEXTURE_H
@@ -33,10 +34,15 @@ typedef struct scene_uv {
     float uv[4][2];
 } scene_uv;
 
+/* A material's maps; width 0: none. */
+typedef struct scene_material_maps {
+    scene_texture albedo, normal;
+} scene_material_maps;
+
 /* Checks `d` (sizes, finite texels in [0, 1]) and copies it into *out;
- * `where` and the field name the map in errors. */
+ * `where` and `field` name the map in errors. */
 xrad_status scene_texture_copy(const xrad_image_desc *d, scene_texture *out, const char *where,
-                               xrad_error *err);
+                               const char *field, xrad_error *err);
 
 /* The map's area-weighted mean over the cell [s0, s1] x [t0, t1] of
  * surface `sf` (corner coordinates `uv`): the texels as constant squares,
@@ -44,12 +50,24 @@ xrad_status scene_texture_copy(const xrad_image_desc *d, scene_texture *out, con
 vec3 scene_texture_mean(const scene_texture *tex, const surface *sf, const scene_uv *uv, double s0,
                         double s1, double t0, double t1);
 
-/* Fills scene->element_albedo (allocating it) from maps[material] (for
- * material < map_count; width 0: none) and uv[surface] for every element
- * whose material has a map, the material's albedo for the rest. The
- * elements must be built. */
-xrad_status scene_texture_albedos(xrad_scene *scene, const scene_texture *maps,
-                                  uint32_t map_count, const scene_uv *uv, xrad_error *err);
+/* The object-space normal a tangent-space normal map whose mean texel over
+ * a cell is `mean` gives there (decoded n = 2 rgb - 1: the decoding is
+ * affine and the frame constant over a face, so the mean of the normals
+ * is the normal of the mean texel), for surface `sf` with corner
+ * coordinates `uv`. The frame is the face's tangent (along increasing u),
+ * bitangent (increasing v) and normal, MikkTSpace's per-face frame; it
+ * is the surface normal where the coordinates are degenerate. The result
+ * is unit and at least 0.05 above the surface's plane: a normal at or
+ * below its horizon would take no light at all. */
+vec3 scene_texture_normal(const surface *sf, const scene_uv *uv, vec3 mean);
+
+/* Fills scene->element_albedo from maps[material].albedo and
+ * scene->element_normal from maps[material].normal (for material <
+ * map_count), each allocated where some material has such a map, with
+ * uv[surface] for the mapped surfaces, the material's albedo and the
+ * surface's normal for the rest. The elements must be built. */
+xrad_status scene_texture_apply(xrad_scene *scene, const scene_material_maps *maps,
+                                uint32_t map_count, const scene_uv *uv, xrad_error *err);
 
 /* Decodes an image file's `size` bytes (PNG, JPEG, TGA or BMP;
  * texture_load.c) into linear RGB, *rgb (malloc'd) width x height x 3

@@ -258,8 +258,19 @@ static xrad_status build_frames(xrad_solver *s, gather *g, xrad_error *err)
                 double cs, ct;
                 scene_cell_centre(sf, i, j, &cs, &ct);
                 fe->pos_area = gpu_vec4(bilinear(c, cs, ct), scene->elements[e].area);
-                fe->normal = gpu_vec4(normal, 0);
-                fe->tangent = gpu_vec4(m3_apply(&r, x0), 0);
+                /* A normal-mapped element gathers about its mapped normal
+                 * (Wallner 3.3): its hemicube tilts with it; what lies
+                 * below the surface's own plane shows back sides, black. */
+                vec3 nm = normal, xm = x0;
+                if (scene->element_normal) {
+                    xform pose = scene_object_pose(scene, sf->object, s->desc.time);
+                    nm = v3_norm(xf_dir(&pose, scene->element_normal[e]));
+                    xm = v3_sub(x0, v3_scale(nm, v3_dot(x0, nm)));
+                    xm = v3_len(xm) > 1e-6 ? v3_norm(xm) : v3_norm(v3_cross(nm, u));
+                    r = m3_rotation(nm, hemicube_rotation(s->desc.seed * 0x9e3779b9u + e));
+                }
+                fe->normal = gpu_vec4(nm, 0);
+                fe->tangent = gpu_vec4(m3_apply(&r, xm), 0);
                 fe->surface = k;
                 fe->i0 = fe->i1 = i;
                 fe->j0 = fe->j1 = j;

@@ -79,7 +79,13 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
             const element *el = &scene->elements[sf->first_element + e];
             struct gpu_element *ge = &g->elements[sf->first_element + e];
             ge->pos_area = gpu_vec4(xf_point(&pose, el->pos), el->area);
-            ge->normal = gpu_vec4(n, 0);
+            /* The receiver normal: a normal map's where there is one (Wallner
+             * 3.3), posed with its object. */
+            ge->normal = scene->element_normal
+                             ? gpu_vec4(v3_norm(xf_dir(&pose, scene->element_normal
+                                                                  [sf->first_element + e])),
+                                        0)
+                             : gpu_vec4(n, 0);
             ge->surface = s;
             ge->texel_x = el->texel_x;
             ge->texel_y = el->texel_y;
