@@ -144,7 +144,17 @@ typedef struct xrad_material_desc {
      * per-face tangent, exact on flat faces). Copied; `uvs` as for
      * albedo_map. */
     const xrad_image_desc *normal_map;
+    /* With a normal_map, the element resolution follows its detail: a
+     * surface whose neighbouring elements' normals differ by more than
+     * 5 degrees has every element split 1 -> 4, and again, at most this
+     * many times (within the scene's element limits, a warning past
+     * them). 0: 1 (the default); XRAD_NORMAL_MAP_LEVELS_NONE: never;
+     * at most XRAD_NORMAL_MAP_LEVELS_MAX. */
+    int normal_map_levels;
 } xrad_material_desc;
+
+#define XRAD_NORMAL_MAP_LEVELS_NONE (-1)
+#define XRAD_NORMAL_MAP_LEVELS_MAX 4
 
 /* *index (may be NULL) receives the material's index for the surfaces. */
 XRAD_API xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b,
@@ -282,6 +292,7 @@ typedef struct xrad_scene_info {
     uint32_t mapped_elements;           /* elements whose albedo comes from one */
     uint32_t normal_maps;               /* materials with a normal map */
     uint32_t normal_mapped_elements;    /* elements whose normal comes from one */
+    uint32_t normal_refined_surfaces;   /* surfaces split finer for their normal map's detail */
     uint32_t luminaires;                /* xrad_scene_builder_add_luminaire, "luminaires" */
 } xrad_scene_info;
 

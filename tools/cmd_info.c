@@ -156,8 +156,8 @@ int cmd_info(int argc, char **argv)
     if (in.albedo_maps)
         printf(" (%u with an albedo map, over %u elements)", in.albedo_maps, in.mapped_elements);
     if (in.normal_maps)
-        printf(" (%u with a normal map, over %u elements)", in.normal_maps,
-               in.normal_mapped_elements);
+        printf(" (%u with a normal map, over %u elements; %u surfaces split for its detail)",
+               in.normal_maps, in.normal_mapped_elements, in.normal_refined_surfaces);
     printf("\n");
     if (in.luminaires)
         printf("luminaires  %u\n", in.luminaires);

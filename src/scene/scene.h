@@ -187,6 +187,7 @@ struct xrad_scene {
      * scene_element_normal. */
     vec3 *element_normal;
     uint32_t normal_maps, normal_mapped_elements;
+    uint32_t normal_refined_surfaces; /* split for their map's detail (scene_builder.c) */
     uint32_t luminaire_count;
     luminaire *luminaires;
 

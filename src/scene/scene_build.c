@@ -295,6 +295,7 @@ void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info)
     info->albedo_maps = scene->albedo_maps;
     info->normal_maps = scene->normal_maps;
     info->normal_mapped_elements = scene->normal_mapped_elements;
+    info->normal_refined_surfaces = scene->normal_refined_surfaces;
     info->mapped_elements = scene->mapped_elements;
     info->luminaires = scene->luminaire_count;
     if (scene->element_albedo)

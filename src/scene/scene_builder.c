@@ -288,6 +288,11 @@ xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_ma
         if (!(m->emission[k] >= 0 && m->emission[k] <= SCENE_MAX_EMISSION))
             return fail(b, err, where, "emission", "must be in [0, %g] W/m^2, got %g",
                         SCENE_MAX_EMISSION, m->emission[k]);
+    if (m->normal_map_levels < XRAD_NORMAL_MAP_LEVELS_NONE ||
+        m->normal_map_levels > XRAD_NORMAL_MAP_LEVELS_MAX)
+        return fail(b, err, where, "normal_map_levels", "must be %d (none) to %d, got %d",
+                    XRAD_NORMAL_MAP_LEVELS_NONE, XRAD_NORMAL_MAP_LEVELS_MAX,
+                    m->normal_map_levels);
     if (!grow((void **)&sc->materials, &b->material_cap, sc->material_count + 1,
               sizeof(material)))
         return out_of_memory(b, err);
@@ -298,6 +303,9 @@ xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_ma
         char w[sizeof(b->file) + SCENE_NAME_MAX + 32];
         snprintf(w, sizeof(w), "%s: %s", b->file, where);
         scene_material_maps *mm = &b->maps[sc->material_count];
+        mm->normal_levels = m->normal_map_levels == 0 ? 1
+                            : m->normal_map_levels < 0 ? 0
+                                                       : (uint32_t)m->normal_map_levels;
         if ((m->albedo_map &&
              (st = scene_texture_copy(m->albedo_map, &mm->albedo, w, "albedo_map", err))) ||
             (m->normal_map &&
@@ -1128,6 +1136,46 @@ static void warn_unlit(xrad_scene_builder *b)
     free(used);
 }
 
+/* Splits the elements of each normal-mapped surface 1 -> 4 while the
+ * split elements' normals differ by more than SCENE_NORMAL_DETAIL_DEGREES
+ * between neighbours, at most its material's normal_levels times (xrad.h
+ * normal_map_levels), within the scene's element limits. */
+static xrad_status refine_normal_mapped(xrad_scene_builder *b, xrad_error *err)
+{
+    xrad_scene *sc = b->sc;
+    uint32_t capped = 0;
+    for (uint32_t si = 0; si < sc->surface_count; si++) {
+        surface *sf = &sc->surfaces[si];
+        if (sf->material >= b->map_cap || !b->maps[sf->material].normal.width)
+            continue;
+        const scene_material_maps *mm = &b->maps[sf->material];
+        uint32_t level = 0;
+        for (; level < mm->normal_levels; level++) {
+            uint32_t nu = scene_texture_refined(sf->nu), nv = scene_texture_refined(sf->nv);
+            uint64_t more = (uint64_t)nu * nv - (uint64_t)sf->nu * sf->nv;
+            if (nu > SCENE_MAX_SAMPLES || nv > SCENE_MAX_SAMPLES ||
+                b->elements + more > SCENE_MAX_ELEMENTS) {
+                capped++;
+                break;
+            }
+            int vary = scene_texture_normals_vary(&mm->normal, sf, &b->uv[si], nu, nv);
+            if (vary < 0)
+                return out_of_memory(b, err);
+            if (!vary)
+                break;
+            sf->nu = nu;
+            sf->nv = nv;
+            b->elements += more;
+        }
+        sc->normal_refined_surfaces += level > 0;
+    }
+    if (capped)
+        scene_builder_warn(b, "%s: %u normal-mapped surface(s) split less than their map's "
+                              "detail asks: the scene's element limits (%u, %u along an edge)",
+                           sc->path, capped, SCENE_MAX_ELEMENTS, SCENE_MAX_SAMPLES);
+    return XRAD_OK;
+}
+
 xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, xrad_error *err)
 {
     *out = NULL;
@@ -1156,7 +1204,7 @@ xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, x
     if (!b->has_camera)
         default_camera(sc);
     warn_unlit(b);
-    if ((st = scene_build_elements(sc, err)) ||
+    if ((b->uv && (st = refine_normal_mapped(b, err))) || (st = scene_build_elements(sc, err)) ||
         (b->uv && (st = scene_texture_apply(sc, b->maps, b->map_cap, b->uv, err)))) {
         b->failed = true;
         return st;

@@ -281,8 +281,8 @@ static xrad_status read_map(ctx *c, const cJSON *j, const char *key, bool srgb,
 
 static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index)
 {
-    static const char *const keys[] = {"name", "albedo", "emission", "albedo_map", "normal_map",
-                                       NULL};
+    static const char *const keys[] = {"name",       "albedo",     "emission",          "albedo_map",
+                                       "normal_map", "normal_map_levels", NULL};
     snprintf(c->where, sizeof(c->where), "material #%u: ", index);
     if (!cJSON_IsObject(j))
         return fail(c, NULL, "must be an object, got %s", type_name(j));
@@ -309,6 +309,17 @@ static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index)
     }
     m.albedo_map = albedo_map.rgb ? &albedo_map : NULL;
     m.normal_map = normal_map.rgb ? &normal_map : NULL;
+    /* 0 here is none; absent, the library's default (xrad.h). */
+    const cJSON *levels = member(j, "normal_map_levels");
+    uint32_t nl = 0;
+    if (levels && (st = get_uint(c, levels, "normal_map_levels", 0, XRAD_NORMAL_MAP_LEVELS_MAX,
+                                 &nl))) {
+        free((void *)albedo_map.rgb);
+        free((void *)normal_map.rgb);
+        return st;
+    }
+    if (levels)
+        m.normal_map_levels = nl ? (int)nl : XRAD_NORMAL_MAP_LEVELS_NONE;
     st = xrad_scene_builder_add_material(c->b, &m, NULL, c->err);
     free((void *)albedo_map.rgb);
     free((void *)normal_map.rgb);

@@ -145,6 +145,37 @@ vec3 scene_texture_normal(const surface *sf, const scene_uv *uv, vec3 mean)
     return m;
 }
 
+uint32_t scene_texture_refined(uint32_t n)
+{
+    return n <= 1 ? 3 : 2 * n - 1;
+}
+
+int scene_texture_normals_vary(const scene_texture *tex, const surface *sf, const scene_uv *uv,
+                               uint32_t nu, uint32_t nv)
+{
+    vec3 *n = malloc((size_t)nu * nv * sizeof(vec3));
+    if (!n)
+        return -1;
+    for (uint32_t j = 0; j < nv; j++)
+        for (uint32_t i = 0; i < nu; i++) {
+            double s0, s1, t0, t1;
+            scene_param_range(i, i, nu, &s0, &s1);
+            scene_param_range(j, j, nv, &t0, &t1);
+            n[j * nu + i] =
+                scene_texture_normal(sf, uv, scene_texture_mean(tex, sf, uv, s0, s1, t0, t1));
+        }
+    const double limit = cos(SCENE_NORMAL_DETAIL_DEGREES * 3.14159265358979323846 / 180);
+    int vary = 0;
+    for (uint32_t j = 0; j < nv && !vary; j++)
+        for (uint32_t i = 0; i < nu && !vary; i++) {
+            vec3 a = n[j * nu + i];
+            vary = (i + 1 < nu && v3_dot(a, n[j * nu + i + 1]) < limit) ||
+                   (j + 1 < nv && v3_dot(a, n[(j + 1) * nu + i]) < limit);
+        }
+    free(n);
+    return vary;
+}
+
 xrad_status scene_texture_apply(xrad_scene *scene, const scene_material_maps *maps,
                                 uint32_t map_count, const scene_uv *uv, xrad_error *err)
 {

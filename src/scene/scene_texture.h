@@ -34,10 +34,16 @@ typedef struct scene_uv {
     float uv[4][2];
 } scene_uv;
 
-/* A material's maps; width 0: none. */
+/* A material's maps; width 0: none. normal_levels: the refinements its
+ * normal map may bring (xrad.h normal_map_levels, resolved: 0 none). */
 typedef struct scene_material_maps {
     scene_texture albedo, normal;
+    uint32_t normal_levels;
 } scene_material_maps;
+
+/* Neighbouring elements whose mapped normals differ by more than this
+ * make their surface's elements split (xrad.h normal_map_levels). */
+#define SCENE_NORMAL_DETAIL_DEGREES 5.0
 
 /* Checks `d` (sizes, finite texels in [0, 1]) and copies it into *out;
  * `where` and `field` name the map in errors. */
@@ -60,6 +66,17 @@ vec3 scene_texture_mean(const scene_texture *tex, const surface *sf, const scene
  * is unit and at least 0.05 above the surface's plane: a normal at or
  * below its horizon would take no light at all. */
 vec3 scene_texture_normal(const surface *sf, const scene_uv *uv, vec3 mean);
+
+/* The samples along a side after one 1 -> 4 split: every interval
+ * halved (2n - 1; a lone triangle's single element, 3). */
+uint32_t scene_texture_refined(uint32_t n);
+
+/* Whether two neighbouring cells of surface `sf` with nu x nv samples
+ * (scene.h cells) take normals from normal map `tex` (coordinates `uv`)
+ * more than SCENE_NORMAL_DETAIL_DEGREES apart. The surface's own nu, nv
+ * are not read. Returns -1 out of memory. */
+int scene_texture_normals_vary(const scene_texture *tex, const surface *sf, const scene_uv *uv,
+                               uint32_t nu, uint32_t nv);
 
 /* Fills scene->element_albedo from maps[material].albedo and
  * scene->element_normal from maps[material].normal (for material <

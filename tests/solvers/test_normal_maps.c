@@ -9,7 +9,9 @@
  *    v edge; on a mesh whose texture coordinates turn or mirror the
  *    texture, the tilt follows the coordinates (the tangent along
  *    increasing u, the bitangent along increasing v: glTF's frame); a
- *    normal on the horizon (1, 0, 0) is lifted to 0.05 above it; bad
+ *    normal on the horizon (1, 0, 0) is lifted to 0.05 above it; a map
+ *    with a seam splits a quad's elements 1 -> 4 per level asked, a
+ *    constant one does not (refine_part); bad
  *    maps and missing coordinates are errors naming the field; a point
  *    light over the tilted quad lights each element with albedo x I cos /
  *    d^2, the cosine the tilted normal's (CPU reference).
@@ -50,7 +52,7 @@ static xrad_image_desc encoded(float rgb[3], vec3 t)
 
 /* One object on the z = 0 plane, front +z: the unit quad (u along +x) or
  * a mesh of two triangles over it with texture coordinates `uvs`. */
-static xrad_status build(const xrad_image_desc *map, const float *uvs, bool mesh,
+static xrad_status build(const xrad_image_desc *map, const float *uvs, bool mesh, int levels,
                          xrad_scene **out, xrad_error *err)
 {
     static const float pos[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
@@ -61,7 +63,11 @@ static xrad_status build(const xrad_image_desc *map, const float *uvs, bool mesh
         &(xrad_scene_builder_desc){.name = "normal-mapped", .density = 4}, &b, err);
     if (!st)
         st = xrad_scene_builder_add_material(
-            b, &(xrad_material_desc){.name = "paint", .albedo = {0.5, 0.5, 0.5}, .normal_map = map},
+            b,
+            &(xrad_material_desc){.name = "paint",
+                                  .albedo = {0.5, 0.5, 0.5},
+                                  .normal_map = map,
+                                  .normal_map_levels = levels},
             &m, err);
     if (!st)
         st = xrad_scene_builder_add_material(
@@ -104,7 +110,7 @@ static void check_normals(const char *what, const xrad_image_desc *map, const fl
 {
     xrad_scene *sc = NULL;
     xrad_error err = {0};
-    xrad_status st = build(map, uvs, mesh, &sc, &err);
+    xrad_status st = build(map, uvs, mesh, 0, &sc, &err);
     CHECK(st == XRAD_OK, "%s: %s", what, err.message);
     if (st)
         return;
@@ -122,11 +128,11 @@ static void check_normals(const char *what, const xrad_image_desc *map, const fl
 }
 
 static void expect_error(const char *what, const xrad_image_desc *map, const float *uvs, bool mesh,
-                         const char *field)
+                         int levels, const char *field)
 {
     xrad_scene *sc = NULL;
     xrad_error err = {0};
-    xrad_status st = build(map, uvs, mesh, &sc, &err);
+    xrad_status st = build(map, uvs, mesh, levels, &sc, &err);
     CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, field),
           "%s: want an input error naming %s, got %d '%s'", what, field, st, err.message);
     xrad_scene_destroy(&sc);
@@ -191,6 +197,121 @@ static void luminaire_part(const xrad_image_desc *tilt_u, vec3 n_tilt)
     xrad_scene_destroy(&sc);
 }
 
+/* Element resolution that follows the map's detail (xrad.h
+ * normal_map_levels): a 2 x 1 map, flat on the left half and tilted on the
+ * right, keeps a seam of 25 degrees at every resolution, so the quad's 5 x
+ * 5 samples split to 2n - 1 per level, up to the level asked; a constant
+ * map has no detail and stays 5 x 5. Elements wholly on one side of the
+ * seam (u = 1/2) take that side's normal. */
+static void refine_part(double s, double c)
+{
+    float rgb[6], tilt_rgb[3];
+    encoded(rgb, v3(0, 0, 1));
+    encoded(rgb + 3, v3(s, 0, c));
+    xrad_image_desc halves = {2, 1, rgb};
+    xrad_image_desc tilt = encoded(tilt_rgb, v3(s, 0, c));
+    static const struct {
+        int levels;
+        bool constant;
+        uint32_t side, refined;
+    } cases[] = {
+        {0, false, 9, 1},                           /* the default, one level */
+        {XRAD_NORMAL_MAP_LEVELS_NONE, false, 5, 0}, /* never */
+        {3, false, 33, 1},                          /* 5 -> 9 -> 17 -> 33 */
+        {3, true, 5, 0},                            /* no detail */
+    };
+    for (size_t k = 0; k < sizeof(cases) / sizeof(cases[0]); k++) {
+        xrad_scene *sc = NULL;
+        xrad_error err = {0};
+        xrad_status st =
+            build(cases[k].constant ? &tilt : &halves, NULL, false, cases[k].levels, &sc, &err);
+        CHECK(st == XRAD_OK, "refine case %zu: %s", k, err.message);
+        if (st)
+            continue;
+        const surface *sf = &sc->surfaces[0];
+        xrad_scene_info info;
+        xrad_scene_get_info(sc, &info);
+        double off = 0;
+        for (uint32_t e = 0; e < sf->nu * sf->nv; e++) {
+            double s0, s1, t0, t1;
+            scene_param_range(e % sf->nu, e % sf->nu, sf->nu, &s0, &s1);
+            scene_param_range(e / sf->nu, e / sf->nu, sf->nv, &t0, &t1);
+            vec3 want = cases[k].constant || s0 >= 0.5 ? v3(s, 0, c) : v3(0, 0, 1);
+            if (cases[k].constant || s1 <= 0.5 || s0 >= 0.5)
+                off = fmax(off, v3_len(v3_sub(scene_element_normal(sc, sf->first_element + e),
+                                              want)));
+        }
+        fprintf(stderr,
+                "refine: levels %2d, %s map: %u x %u elements (%u surface split), one-sided "
+                "elements %.1e off\n",
+                cases[k].levels, cases[k].constant ? "constant" : "two-half", sf->nu, sf->nv,
+                info.normal_refined_surfaces, off);
+        CHECK(sf->nu == cases[k].side && sf->nv == cases[k].side &&
+                  info.normal_refined_surfaces == cases[k].refined && off <= 1e-6,
+              "refine case %zu: %u x %u elements, %u split, %.3g off; want %u x %u, %u", k,
+              sf->nu, sf->nv, info.normal_refined_surfaces, off, cases[k].side, cases[k].side,
+              cases[k].refined);
+        xrad_scene_destroy(&sc);
+    }
+}
+
+/* A scene file's "normal_map" and "normal_map_levels": tests/data/
+ * normal-halves.png (8-bit: flat, then tilted 25 degrees towards u) on a
+ * quad; the right half's elements lean towards +x by sin 25 (within the
+ * 8-bit step), the left's do not; bad values are errors naming the field. */
+static void json_part(void)
+{
+    char name[1024];
+    test_source_path("tests/data/normal-maps.json", name, sizeof(name));
+    const char *fmt =
+        "{\"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5], \"normal_map\": %s%s},"
+        " {\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [1, 1, 1]}],"
+        " \"objects\": [{\"name\": \"o\", \"surfaces\": [{\"name\": \"q\", \"material\": \"m\","
+        " \"quad\": {\"origin\": [0, 0, 0], \"u\": [1, 0, 0], \"v\": [0, 1, 0]}, \"density\": 4}]}]}";
+    static const struct {
+        const char *map, *extra, *field; /* field NULL: loads */
+    } cases[] = {
+        {"\"normal-halves.png\"", ", \"normal_map_levels\": 0", NULL},
+        {"\"normal-halves.png\"", ", \"normal_map_levels\": 5", "'normal_map_levels'"},
+        {"\"normal-halves.png\"", ", \"normal_map_levels\": 1.5", "'normal_map_levels'"},
+        {"3", "", "'normal_map'"},
+        {"\"no-such-map.png\"", "", "no-such-map.png"},
+    };
+    for (size_t k = 0; k < sizeof(cases) / sizeof(cases[0]); k++) {
+        char json[1024];
+        snprintf(json, sizeof(json), fmt, cases[k].map, cases[k].extra);
+        xrad_scene *sc = NULL;
+        xrad_error err = {0};
+        xrad_status st = xrad_scene_parse(json, strlen(json), name, &sc, &err);
+        if (cases[k].field) {
+            CHECK(st == XRAD_ERROR_INPUT && strstr(err.message, cases[k].field),
+                  "scene file case %zu: want an error naming %s, got %d '%s'", k, cases[k].field,
+                  st, err.message);
+        } else {
+            CHECK(st == XRAD_OK, "scene file case %zu: %s", k, err.message);
+        }
+        if (st == XRAD_OK && !cases[k].field) {
+            const surface *sf = &sc->surfaces[0];
+            double worst = 0;
+            for (uint32_t e = 0; e < sf->nu * sf->nv; e++) {
+                double s0, s1, t0, t1;
+                scene_param_range(e % sf->nu, e % sf->nu, sf->nu, &s0, &s1);
+                scene_param_range(e / sf->nu, e / sf->nu, sf->nv, &t0, &t1);
+                if (s1 > 0.5 && s0 < 0.5)
+                    continue;
+                double want = s0 >= 0.5 ? sin(TILT) : 0;
+                worst = fmax(worst, fabs(scene_element_normal(sc, sf->first_element + e).x - want));
+            }
+            fprintf(stderr, "scene file: %u x %u elements, one-sided normals' x %.4f off\n", sf->nu,
+                    sf->nv, worst);
+            /* levels 0 in a file: never split. */
+            CHECK(sf->nu == 5 && worst <= 0.01, "scene file: %u x %u elements, x %.4f off", sf->nu,
+                  sf->nv, worst);
+        }
+        xrad_scene_destroy(&sc);
+    }
+}
+
 static void normals_part(void)
 {
     double s = sin(TILT), c = cos(TILT);
@@ -220,8 +341,13 @@ static void normals_part(void)
 
     float bad_rgb[3] = {0.5f, 1.5f, 1};
     xrad_image_desc bad = {1, 1, bad_rgb};
-    expect_error("texel outside [0, 1]", &bad, NULL, false, "'normal_map'");
-    expect_error("mesh without uvs", &tilt_u, NULL, true, "'uvs'");
+    expect_error("texel outside [0, 1]", &bad, NULL, false, 0, "'normal_map'");
+    expect_error("mesh without uvs", &tilt_u, NULL, true, 0, "'uvs'");
+    expect_error("levels -2", &tilt_u, NULL, false, -2, "'normal_map_levels'");
+    expect_error("levels 5", &tilt_u, NULL, false, XRAD_NORMAL_MAP_LEVELS_MAX + 1,
+                 "'normal_map_levels'");
+    refine_part(s, c);
+    json_part();
     luminaire_part(&tilt_u, v3(s, 0, c));
 }
 
