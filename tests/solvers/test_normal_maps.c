@@ -474,8 +474,8 @@ static void solves_part(xrad_context *ctx)
                 }
             }
             fprintf(stderr,
-                    "lit floor %-11s tilted map: worst element %.4f off the analytic form "
-                    "factor%s, %.4f off its ratio to the untilted; flat map %.1e off unmapped\n",
+                    "lit floor %-11s tilted map: worst element %.1e off the analytic form "
+                    "factor%s, %.1e off its ratio to the untilted; flat map %.1e off unmapped\n",
                     name, worst, shoots ? " (conserve off)" : "", tilted_off, same);
             CHECK(worst <= 0.01, "%s: a floor element tilted by 25 degrees is %.4f off", name,
                   worst);
