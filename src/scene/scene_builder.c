@@ -291,8 +291,7 @@ xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_ma
     if (m->normal_map_levels < XRAD_NORMAL_MAP_LEVELS_NONE ||
         m->normal_map_levels > XRAD_NORMAL_MAP_LEVELS_MAX)
         return fail(b, err, where, "normal_map_levels", "must be %d (none) to %d, got %d",
-                    XRAD_NORMAL_MAP_LEVELS_NONE, XRAD_NORMAL_MAP_LEVELS_MAX,
-                    m->normal_map_levels);
+                    XRAD_NORMAL_MAP_LEVELS_NONE, XRAD_NORMAL_MAP_LEVELS_MAX, m->normal_map_levels);
     if (!grow((void **)&sc->materials, &b->material_cap, sc->material_count + 1,
               sizeof(material)))
         return out_of_memory(b, err);
@@ -303,7 +302,7 @@ xrad_status xrad_scene_builder_add_material(xrad_scene_builder *b, const xrad_ma
         char w[sizeof(b->file) + SCENE_NAME_MAX + 32];
         snprintf(w, sizeof(w), "%s: %s", b->file, where);
         scene_material_maps *mm = &b->maps[sc->material_count];
-        mm->normal_levels = m->normal_map_levels == 0 ? 1
+        mm->normal_levels = m->normal_map_levels == 0  ? 1
                             : m->normal_map_levels < 0 ? 0
                                                        : (uint32_t)m->normal_map_levels;
         if ((m->albedo_map &&
@@ -1170,8 +1169,9 @@ static xrad_status refine_normal_mapped(xrad_scene_builder *b, xrad_error *err)
         sc->normal_refined_surfaces += level > 0;
     }
     if (capped)
-        scene_builder_warn(b, "%s: %u normal-mapped surface(s) split less than their map's "
-                              "detail asks: the scene's element limits (%u, %u along an edge)",
+        scene_builder_warn(b,
+                           "%s: %u normal-mapped surface(s) split less than their map's "
+                           "detail asks: the scene's element limits (%u, %u along an edge)",
                            sc->path, capped, SCENE_MAX_ELEMENTS, SCENE_MAX_SAMPLES);
     return XRAD_OK;
 }

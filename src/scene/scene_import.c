@@ -185,12 +185,11 @@ static xrad_status import_texture(import_ctx *c, const struct aiMaterial *am,
     xrad_error *keep = c->err;
     c->err = &why;
     float *texels = NULL;
-    xrad_status ms = *channel < AI_MAX_NUMBER_OF_TEXTURECOORDS
-                         ? load_map(c, tpath.data, mname, srgb, &texels, &image->width,
-                                    &image->height)
-                         : xrad_fail(&why, XRAD_ERROR_INPUT,
-                                     "%s: material '%s': texture coordinate set %u", c->path,
-                                     mname, *channel);
+    xrad_status ms =
+        *channel < AI_MAX_NUMBER_OF_TEXTURECOORDS
+            ? load_map(c, tpath.data, mname, srgb, &texels, &image->width, &image->height)
+            : xrad_fail(&why, XRAD_ERROR_INPUT, "%s: material '%s': texture coordinate set %u",
+                        c->path, mname, *channel);
     c->err = keep;
     if (ms == XRAD_ERROR_SYSTEM) {
         *c->err = why;
@@ -297,9 +296,8 @@ static xrad_status import_material(import_ctx *c, uint32_t m, uint32_t *out)
     /* Textures xrad does not model (emissive, metal-roughness,
      * occlusion), counted for a warning. */
     static const enum aiTextureType textured[] = {
-        aiTextureType_EMISSIVE, aiTextureType_EMISSION_COLOR,
-        aiTextureType_METALNESS, aiTextureType_DIFFUSE_ROUGHNESS,
-        aiTextureType_AMBIENT_OCCLUSION, aiTextureType_UNKNOWN};
+        aiTextureType_EMISSIVE,          aiTextureType_EMISSION_COLOR,    aiTextureType_METALNESS,
+        aiTextureType_DIFFUSE_ROUGHNESS, aiTextureType_AMBIENT_OCCLUSION, aiTextureType_UNKNOWN};
     for (size_t k = 0; k < sizeof(textured) / sizeof(textured[0]); k++)
         if (aiGetMaterialTextureCount(am, textured[k])) {
             c->textured++;
@@ -1078,11 +1076,15 @@ static xrad_status import_scene(xrad_scene_builder *b, const char *path, struct 
         st = take_camera(&c);
     if (!st) {
         if (c.textured)
-            scene_builder_warn(b, "%s: %u material(s) with emissive, metal-roughness or occlusion "
-                               "textures: ignored", path, c.textured);
+            scene_builder_warn(b,
+                               "%s: %u material(s) with emissive, metal-roughness or occlusion "
+                               "textures: ignored",
+                               path, c.textured);
         if (c.map_failed)
-            scene_builder_warn(b, "%s: %u base colour or normal texture(s) not read, the "
-                               "colour factor or the face's normal used alone (first: %s)", path, c.map_failed, c.map_failed_why);
+            scene_builder_warn(b,
+                               "%s: %u base colour or normal texture(s) not read, the "
+                               "colour factor or the face's normal used alone (first: %s)",
+                               path, c.map_failed, c.map_failed_why);
         if (c.metallic)
             scene_builder_warn(b, "%s: %u material(s) metallic: ignored (diffuse only)", path,
                                c.metallic);

@@ -260,8 +260,7 @@ static xrad_status read_map(ctx *c, const cJSON *j, const char *key, bool srgb,
     if (!map)
         return XRAD_OK;
     if (!cJSON_IsString(map) || !map->valuestring[0])
-        return fail(c, key, "must be a non-empty string (an image file), got %s",
-                    type_name(map));
+        return fail(c, key, "must be a non-empty string (an image file), got %s", type_name(map));
     char path[1024], what[1200];
     beside_scene(c, map->valuestring, path, sizeof(path));
     snprintf(what, sizeof(what), "%s: %sfield '%s'", c->file, c->where, key);
@@ -272,8 +271,8 @@ static xrad_status read_map(ctx *c, const cJSON *j, const char *key, bool srgb,
     if (st)
         xrad_error_prefix(c->err, "%s", what);
     else
-        st = scene_texture_decode(data, size, srgb, what, &texels, &image->width,
-                                  &image->height, c->err);
+        st = scene_texture_decode(data, size, srgb, what, &texels, &image->width, &image->height,
+                                  c->err);
     free(data);
     image->rgb = texels;
     return st;
@@ -281,8 +280,8 @@ static xrad_status read_map(ctx *c, const cJSON *j, const char *key, bool srgb,
 
 static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index)
 {
-    static const char *const keys[] = {"name",       "albedo",     "emission",          "albedo_map",
-                                       "normal_map", "normal_map_levels", NULL};
+    static const char *const keys[] = {
+        "name", "albedo", "emission", "albedo_map", "normal_map", "normal_map_levels", NULL};
     snprintf(c->where, sizeof(c->where), "material #%u: ", index);
     if (!cJSON_IsObject(j))
         return fail(c, NULL, "must be an object, got %s", type_name(j));
@@ -312,8 +311,8 @@ static xrad_status parse_material(ctx *c, const cJSON *j, uint32_t index)
     /* 0 here is none; absent, the library's default (xrad.h). */
     const cJSON *levels = member(j, "normal_map_levels");
     uint32_t nl = 0;
-    if (levels && (st = get_uint(c, levels, "normal_map_levels", 0, XRAD_NORMAL_MAP_LEVELS_MAX,
-                                 &nl))) {
+    if (levels &&
+        (st = get_uint(c, levels, "normal_map_levels", 0, XRAD_NORMAL_MAP_LEVELS_MAX, &nl))) {
         free((void *)albedo_map.rgb);
         free((void *)normal_map.rgb);
         return st;

@@ -28,15 +28,13 @@ xrad_status scene_texture_copy(const xrad_image_desc *d, scene_texture *out, con
     size_t n = (size_t)d->width * d->height * 3;
     for (size_t k = 0; k < n; k++)
         if (!(d->rgb[k] >= 0 && d->rgb[k] <= 1))
-            return xrad_fail(
-                err, XRAD_ERROR_INPUT,
-                "%sfield '%s': texel (%zu, %zu) channel %zu is %g, outside [0, 1]", where,
-                field, k / 3 % d->width, k / 3 / d->width, k % 3, d->rgb[k]);
+            return xrad_fail(err, XRAD_ERROR_INPUT,
+                             "%sfield '%s': texel (%zu, %zu) channel %zu is %g, outside [0, 1]",
+                             where, field, k / 3 % d->width, k / 3 / d->width, k % 3, d->rgb[k]);
     out->rgb = malloc(n * sizeof(float));
     if (!out->rgb)
-        return xrad_fail(err, XRAD_ERROR_SYSTEM,
-                         "%sfield '%s': out of memory for %u x %u texels", where, field, d->width,
-                         d->height);
+        return xrad_fail(err, XRAD_ERROR_SYSTEM, "%sfield '%s': out of memory for %u x %u texels",
+                         where, field, d->width, d->height);
     memcpy(out->rgb, d->rgb, n * sizeof(float));
     out->width = d->width;
     out->height = d->height;

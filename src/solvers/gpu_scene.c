@@ -81,11 +81,11 @@ static xrad_status fill_geometry(const xrad_scene *scene, const uint32_t *fixed_
             ge->pos_area = gpu_vec4(xf_point(&pose, el->pos), el->area);
             /* The receiver normal: a normal map's where there is one (Wallner
              * 3.3), posed with its object. */
-            ge->normal = scene->element_normal
-                             ? gpu_vec4(v3_norm(xf_dir(&pose, scene->element_normal
-                                                                  [sf->first_element + e])),
-                                        0)
-                             : gpu_vec4(n, 0);
+            ge->normal =
+                scene->element_normal
+                    ? gpu_vec4(v3_norm(xf_dir(&pose, scene->element_normal[sf->first_element + e])),
+                               0)
+                    : gpu_vec4(n, 0);
             ge->surface = s;
             ge->texel_x = el->texel_x;
             ge->texel_y = el->texel_y;

@@ -62,13 +62,12 @@ static xrad_status build(const xrad_image_desc *map, const float *uvs, bool mesh
     xrad_status st = xrad_scene_builder_create(
         &(xrad_scene_builder_desc){.name = "normal-mapped", .density = 4}, &b, err);
     if (!st)
-        st = xrad_scene_builder_add_material(
-            b,
-            &(xrad_material_desc){.name = "paint",
-                                  .albedo = {0.5, 0.5, 0.5},
-                                  .normal_map = map,
-                                  .normal_map_levels = levels},
-            &m, err);
+        st = xrad_scene_builder_add_material(b,
+                                             &(xrad_material_desc){.name = "paint",
+                                                                   .albedo = {0.5, 0.5, 0.5},
+                                                                   .normal_map = map,
+                                                                   .normal_map_levels = levels},
+                                             &m, err);
     if (!st)
         st = xrad_scene_builder_add_material(
             b, &(xrad_material_desc){.name = "lamp", .emission = {1, 1, 1}}, NULL, err);
@@ -105,8 +104,8 @@ static double normal_off(const xrad_scene *sc, vec3 want)
     return worst;
 }
 
-static void check_normals(const char *what, const xrad_image_desc *map, const float *uvs,
-                          bool mesh, vec3 want)
+static void check_normals(const char *what, const xrad_image_desc *map, const float *uvs, bool mesh,
+                          vec3 want)
 {
     xrad_scene *sc = NULL;
     xrad_error err = {0};
@@ -154,8 +153,7 @@ static void luminaire_part(const xrad_image_desc *tilt_u, vec3 n_tilt)
     if (!st)
         st = xrad_scene_builder_add_material(
             b,
-            &(xrad_material_desc){
-                .name = "paint", .albedo = {0.5, 0.5, 0.5}, .normal_map = tilt_u},
+            &(xrad_material_desc){.name = "paint", .albedo = {0.5, 0.5, 0.5}, .normal_map = tilt_u},
             &m, &err);
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = "o"}, &err);
@@ -185,9 +183,8 @@ static void luminaire_part(const xrad_image_desc *tilt_u, vec3 n_tilt)
             vec3 d = v3_sub(at, el->pos);
             double r2 = v3_dot(d, d);
             double want = 0.5 * 2 * v3_dot(n_tilt, v3_scale(d, 1 / sqrt(r2))) / r2;
-            worst = fmax(worst, fabs(a.rgba[4 * ((size_t)el->texel_y * a.width + el->texel_x)] /
-                                         want -
-                                     1));
+            worst = fmax(
+                worst, fabs(a.rgba[4 * ((size_t)el->texel_y * a.width + el->texel_x)] / want - 1));
         }
         fprintf(stderr, "point light over a tilted map: worst element %.1e off rho I cos / d^2\n",
                 worst);
@@ -238,8 +235,8 @@ static void refine_part(double s, double c)
             scene_param_range(e / sf->nu, e / sf->nu, sf->nv, &t0, &t1);
             vec3 want = cases[k].constant || s0 >= 0.5 ? v3(s, 0, c) : v3(0, 0, 1);
             if (cases[k].constant || s1 <= 0.5 || s0 >= 0.5)
-                off = fmax(off, v3_len(v3_sub(scene_element_normal(sc, sf->first_element + e),
-                                              want)));
+                off = fmax(off,
+                           v3_len(v3_sub(scene_element_normal(sc, sf->first_element + e), want)));
         }
         fprintf(stderr,
                 "refine: levels %2d, %s map: %u x %u elements (%u surface split), one-sided "
@@ -248,8 +245,8 @@ static void refine_part(double s, double c)
                 info.normal_refined_surfaces, off);
         CHECK(sf->nu == cases[k].side && sf->nv == cases[k].side &&
                   info.normal_refined_surfaces == cases[k].refined && off <= 1e-6,
-              "refine case %zu: %u x %u elements, %u split, %.3g off; want %u x %u, %u", k,
-              sf->nu, sf->nv, info.normal_refined_surfaces, off, cases[k].side, cases[k].side,
+              "refine case %zu: %u x %u elements, %u split, %.3g off; want %u x %u, %u", k, sf->nu,
+              sf->nv, info.normal_refined_surfaces, off, cases[k].side, cases[k].side,
               cases[k].refined);
         xrad_scene_destroy(&sc);
     }
@@ -267,7 +264,8 @@ static void json_part(void)
         "{\"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5], \"normal_map\": %s%s},"
         " {\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [1, 1, 1]}],"
         " \"objects\": [{\"name\": \"o\", \"surfaces\": [{\"name\": \"q\", \"material\": \"m\","
-        " \"quad\": {\"origin\": [0, 0, 0], \"u\": [1, 0, 0], \"v\": [0, 1, 0]}, \"density\": 4}]}]}";
+        " \"quad\": {\"origin\": [0, 0, 0], \"u\": [1, 0, 0], \"v\": [0, 1, 0]}, \"density\": "
+        "4}]}]}";
     static const struct {
         const char *map, *extra, *field; /* field NULL: loads */
     } cases[] = {
@@ -430,9 +428,9 @@ static void solves_part(xrad_context *ctx)
         double s, t;
         scene_cell_centre(fl, k % fl->nu, k / fl->nu, &s, &t);
         vec3 x = surface_point(fl, s, t);
-        moved = fmax(moved, fabs(lambert(x, n_tilt, lamp_corners) /
-                                         lambert(x, v3(0, 1, 0), lamp_corners) -
-                                     1));
+        moved = fmax(
+            moved,
+            fabs(lambert(x, n_tilt, lamp_corners) / lambert(x, v3(0, 1, 0), lamp_corners) - 1));
     }
     CHECK(moved > 0.1, "the tilt moves the floor's form factors by %.3f only", moved);
     for (size_t m = 0; m < SOLVER_TEST_METHODS; m++) {
@@ -465,8 +463,8 @@ static void solves_part(xrad_context *ctx)
                 scene_cell_centre(fl, el->i, el->j, &s, &t);
                 vec3 x = surface_point(fl, s, t);
                 double want = 0.5 * 10 * lambert(x, n_tilt, lamp_corners);
-                double ratio = lambert(x, n_tilt, lamp_corners) /
-                               lambert(x, v3(0, 1, 0), lamp_corners);
+                double ratio =
+                    lambert(x, n_tilt, lamp_corners) / lambert(x, v3(0, 1, 0), lamp_corners);
                 for (int c = 0; c < 3; c++) {
                     worst = fmax(worst, fabs(texel(point, el)[c] / want - 1));
                     tilted_off =
