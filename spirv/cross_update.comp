@@ -148,7 +148,9 @@ void main()
     // group's axis came out 0.92-0.95 of the CPU reference's without.
     if (patches[first].member_count != 0u) {
         gpu_shooter f = frames[CROSS_FRAMES_GATHER * pc.patch_count + first];
-        vec3 n = sf.normal_area.xyz, z = f.normal.xyz, x = f.tangent.xyz;
+        // n: the element's receiver normal, its face's or its normal
+        // map's (xrad.h normal_map), posed.
+        vec3 n = elements[k].normal.xyz, z = f.normal.xyz, x = f.tangent.xyz;
         float ct = dot(n, z);
         vec3 g = dot(n, x) * gathered[pc.patch_count + first].rgb +
                  dot(n, cross(z, x)) * gathered[2u * pc.patch_count + first].rgb +

@@ -29,6 +29,8 @@
 layout(constant_id = 0) const uint SHADER_BILINEAR = 0u;
 // 1: each element's cell value (above).
 layout(constant_id = 1) const uint CELLS = 0u;
+// 1: the hemicube's own surface black (hemicube_desc.own_black, below).
+layout(constant_id = 2) const uint OWN_BLACK = 0u;
 
 layout(push_constant) uniform Push { hemicube_push pc; };
 layout(binding = HEMICUBE_BINDING_ATLAS) uniform sampler2D atlas;
@@ -79,12 +81,14 @@ void main()
     vec3 uvw = tri.uvw[0].xyz + b1 * (tri.uvw[1].xyz - tri.uvw[0].xyz) +
                b2 * (tri.uvw[2].xyz - tri.uvw[0].xyz);
     vec4 tile = tri.tile;
-    // Surfaces emit and reflect on their front side only (scene.h). The
-    // hemicube's own surface is black: it lies below the horizon of a
-    // hemicube on its normal, but a normal-mapped receiver's hemicube
-    // (gather, xrad.h normal_map) tilts, and its origin, a hair in front,
-    // saw the surface around it from above (a tilted floor 1% bright).
-    float front = tri.sign * dot(n, origin - p0) > 0.0 && ids.x != own ? 1.0 : 0.0;
+    // Surfaces emit and reflect on their front side only (scene.h). With
+    // OWN_BLACK the hemicube's own surface is black too: it lies below the
+    // horizon of a hemicube on its normal, but a normal-mapped receiver's
+    // hemicube (gather, xrad.h normal_map) tilts, and its origin, a hair
+    // in front, saw the surface around it from above (a tilted floor 1%
+    // bright). Only gather's frames name their own surface in every case.
+    bool own_surface = OWN_BLACK != 0u && ids.x == own;
+    float front = tri.sign * dot(n, origin - p0) > 0.0 && !own_surface ? 1.0 : 0.0;
     // u is undefined at a triangle's apex (w = 0): any u of the apex row.
     vec2 uv = vec2(uvw.z > 0.0 ? uvw.x / uvw.z : tile.x, uvw.y);
     vec2 p = clamp(uv, tile.xy, tile.zw);

@@ -27,7 +27,8 @@ layout(location = 2) out vec3 rel;          // m: the point from the origin, at 
 // hemicubes' depth, stays at the centre, as the resolve expects).
 layout(location = 3) centroid out vec3 rel_c;
 // The surface the hemicube stands on (none for a group of mesh faces,
-// which may see each other): hemicube_radiosity.frag draws it black.
+// which may see each other): hemicube_radiosity.frag draws it black
+// where its OWN_BLACK is set (gather).
 layout(location = 4) flat out uint own;
 
 void main()

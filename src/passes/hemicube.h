@@ -110,6 +110,9 @@ typedef struct hemicube_desc {
     bool cells;             /* radiosity: each element's cell value (hemicube_radiosity.frag)
                                instead of bilinear between element samples */
     bool redistribution;    /* images count as GPU_MEM_REDISTRIBUTION, not render targets */
+    bool own_black;         /* radiosity: a hemicube's own surface (its frame's `surface`,
+                               not a group's) is drawn black: gather, whose hemicubes tilt
+                               to normal-mapped receivers' normals (hemicube_radiosity.frag) */
 } hemicube_desc;
 
 /* The radiosity texel format for desc->fp32. */

@@ -333,6 +333,7 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         .diameter = s->gs.diameter > 0 ? s->gs.diameter : 1.0,
         .fp32 = s->desc.radiosity_format == XRAD_RADIOSITY_FP32,
         .cells = true,
+        .own_black = true,
     };
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT |
