@@ -250,25 +250,24 @@ static xrad_status build_frames(xrad_solver *s, gather *g, xrad_error *err)
         scene_surface_world(scene, k, s->desc.time, c, &normal);
         vec3 u = v3_sub(c[1], c[0]);
         vec3 x0 = v3_norm(v3_sub(u, v3_scale(normal, v3_dot(u, normal))));
+        xform pose = scene_object_pose(scene, sf->object, s->desc.time);
         for (uint32_t j = 0; j < sf->nv; j++) {
             for (uint32_t i = 0; i < sf->nu; i++) {
                 uint32_t e = sf->first_element + j * sf->nu + i;
-                mat3 r = m3_rotation(normal, hemicube_rotation(s->desc.seed * 0x9e3779b9u + e));
                 struct gpu_shooter *fe = &f[e];
                 double cs, ct;
                 scene_cell_centre(sf, i, j, &cs, &ct);
                 fe->pos_area = gpu_vec4(bilinear(c, cs, ct), scene->elements[e].area);
                 /* A normal-mapped element gathers about its mapped normal
-                 * (Wallner 3.3): its hemicube tilts with it; what lies
-                 * below the surface's own plane shows back sides, black. */
+                 * (Wallner 3.3): its hemicube tilts with it, and draws its
+                 * own surface black (hemicube_desc.own_black). */
                 vec3 nm = normal, xm = x0;
                 if (scene->element_normal) {
-                    xform pose = scene_object_pose(scene, sf->object, s->desc.time);
                     nm = v3_norm(xf_dir(&pose, scene->element_normal[e]));
                     xm = v3_sub(x0, v3_scale(nm, v3_dot(x0, nm)));
                     xm = v3_len(xm) > 1e-6 ? v3_norm(xm) : v3_norm(v3_cross(nm, u));
-                    r = m3_rotation(nm, hemicube_rotation(s->desc.seed * 0x9e3779b9u + e));
                 }
+                mat3 r = m3_rotation(nm, hemicube_rotation(s->desc.seed * 0x9e3779b9u + e));
                 fe->normal = gpu_vec4(nm, 0);
                 fe->tangent = gpu_vec4(m3_apply(&r, xm), 0);
                 fe->surface = k;
