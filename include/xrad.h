@@ -63,10 +63,29 @@ typedef struct xrad_scene xrad_scene;
  * On success *out owns the scene; release it with xrad_scene_destroy. */
 XRAD_API xrad_status xrad_scene_load(const char *path, xrad_scene **out, xrad_error *err);
 
+/* Adaptive subdivision where shadows fall (Wallner 4; README "Adaptive
+ * subdivision"): before the first shot, each static receiving surface is
+ * tested from each static emitter (a 3 x 3 grid of points on an emitting
+ * surface, or a luminaire's position) with rays from a grid of points on
+ * the receiver; where the visible fraction n_v / n_r of the pairs that
+ * face each other is below 1 and within [lower, upper], the surface's
+ * elements are split 1 -> 4 `levels` times. Surfaces sharing an edge take
+ * the same level when coplanar (their boundary samples stay shared: no
+ * T-vertex in the element grid) and levels within one of each other
+ * otherwise. Zero in a field: the default. */
+typedef struct xrad_adaptive_desc {
+    uint32_t levels; /* splits at most; 0: off [0] */
+    double lower;    /* b_l, in (0, 1] [0.02] */
+    double upper;    /* b_u, in (0, 1] [0.98] */
+} xrad_adaptive_desc;
+
 typedef struct xrad_scene_load_desc {
     /* Every element density in the file times this; 0: the file's own
      * quality.density_scale, else 1. */
     double density_scale;
+    /* Adaptive subdivision; a zero field: the file's own quality
+     * (adaptive_levels, adaptive_lower, adaptive_upper), else the default. */
+    xrad_adaptive_desc adaptive;
     /* A model file's camera by name; NULL: its first (or, without one,
      * the whole scene from -z). */
     const char *camera;
@@ -106,6 +125,7 @@ typedef struct xrad_scene_builder_desc {
     const char *name;     /* stands for the file in messages; default "<builder>" */
     double density;       /* default elements per metre [20] */
     double density_scale; /* every density given (and the default) times this [1] */
+    xrad_adaptive_desc adaptive; /* at finish; default off */
 } xrad_scene_builder_desc;
 
 /* desc may be NULL. */
@@ -293,6 +313,8 @@ typedef struct xrad_scene_info {
     uint32_t normal_maps;               /* materials with a normal map */
     uint32_t normal_mapped_elements;    /* elements whose normal comes from one */
     uint32_t normal_refined_surfaces;   /* surfaces split finer for their normal map's detail */
+    uint32_t adaptive_refined_surfaces; /* split by adaptive subdivision (xrad_adaptive_desc) */
+    uint32_t adaptive_partial_surfaces; /* of them, those whose visibility was partial */
     uint32_t luminaires;                /* xrad_scene_builder_add_luminaire, "luminaires" */
 } xrad_scene_info;
 
@@ -883,6 +905,8 @@ typedef struct xrad_quality {
      * cross densities) times this, at load (xrad_scene_load_with);
      * default 1. */
     double density_scale;
+    /* Adaptive subdivision at load (xrad_scene_load_with); default off. */
+    xrad_adaptive_desc adaptive;
 } xrad_quality;
 
 typedef enum xrad_setting_kind {

@@ -161,6 +161,10 @@ int cmd_info(int argc, char **argv)
     printf("\n");
     if (in.luminaires)
         printf("luminaires  %u\n", in.luminaires);
+    if (in.adaptive_refined_surfaces)
+        printf("adaptive    %u surfaces split (%u with a shadow boundary, the rest their "
+               "neighbours)\n",
+               in.adaptive_refined_surfaces, in.adaptive_partial_surfaces);
     printf("elements    %u (static %u, dynamic %u)\n", in.elements, in.static_elements,
            in.dynamic_elements);
     printf("area        %.6g m^2\n", in.area);

@@ -274,7 +274,8 @@ xrad_status method_load_scene(const char *path, method_settings *m, xrad_scene *
     xrad_status st = command_line_quality(m, &cli, err);
     if (st)
         return st;
-    xrad_scene_load_desc ld = {.density_scale = cli.density_scale, .camera = m->camera};
+    xrad_scene_load_desc ld = {
+        .density_scale = cli.density_scale, .adaptive = cli.adaptive, .camera = m->camera};
     if ((st = xrad_scene_load_with(path, &ld, out, err)))
         return st;
     /* What the file has that xrad leaves out, never silently. */

@@ -26,6 +26,7 @@ typedef struct setting {
 } setting;
 
 #define SOLVER(field) offsetof(xrad_quality, solver) + offsetof(xrad_solver_desc, field)
+#define ADAPTIVE(field) offsetof(xrad_quality, adaptive) + offsetof(xrad_adaptive_desc, field)
 
 static const setting settings[] = {
     {{"hemicube_res", "pixels per hemicube face side, even (all methods)",
@@ -119,6 +120,17 @@ static const setting settings[] = {
     {{"density_scale", "every element density of the scene file times this (at load)",
       XRAD_SETTING_REAL, 1, 0, 16, NULL, 1},
      offsetof(xrad_quality, density_scale), RULE_NONE},
+    {{"adaptive_levels",
+      "1 -> 4 splits at most of surfaces a shadow boundary crosses, before the first shot "
+      "(at load; 0: off)",
+      XRAD_SETTING_INTEGER, 0, 0, 4, NULL, 0},
+     ADAPTIVE(levels), RULE_NONE},
+    {{"adaptive_lower", "adaptive: least visible fraction of a surface from an emitter that splits",
+      XRAD_SETTING_REAL, 0.02, 0, 1, NULL, 1},
+     ADAPTIVE(lower), RULE_NONE},
+    {{"adaptive_upper", "adaptive: most visible fraction of a surface from an emitter that splits",
+      XRAD_SETTING_REAL, 0.98, 0, 1, NULL, 1},
+     ADAPTIVE(upper), RULE_NONE},
 };
 
 #define SETTING_COUNT (sizeof(settings) / sizeof(settings[0]))
@@ -306,11 +318,12 @@ static const struct {
     double v[SETTING_COUNT];
 } presets[] = {
     /*        res msaa id  subdiv max  thresh unshot batch shots grid grid_ff cut back bmsaa fmt
-                                                                     amb cons cull pairs mips regather density */
-    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 0, 8, 1, 1, 2, 1, 0, 1, 1, 1, 0.5}},
-    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 0, 16, 4, 1, 2, 1, 0, 1, 1, 1, 1}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 3, 0, 1, 1, 2, 1}},
-    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 3, 0, 1, 1, 2, 2}},
+                                                                     amb cons cull pairs mips regather density
+                                                                     adaptive: levels lower upper */
+    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 0, 8, 1, 1, 2, 1, 0, 1, 1, 1, 0.5, 0, 0.02, 0.98}},
+    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 0, 16, 4, 1, 2, 1, 0, 1, 1, 1, 1, 0, 0.02, 0.98}},
+    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 3, 0, 1, 1, 2, 1, 0, 0.02, 0.98}},
+    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 3, 0, 1, 1, 2, 2, 0, 0.02, 0.98}},
 };
 
 const char *xrad_quality_preset_list(void)

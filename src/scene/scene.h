@@ -188,6 +188,9 @@ struct xrad_scene {
     vec3 *element_normal;
     uint32_t normal_maps, normal_mapped_elements;
     uint32_t normal_refined_surfaces; /* split for their map's detail (scene_builder.c) */
+    /* Split by adaptive subdivision, and of them those whose visibility
+     * from an emitter was partial (scene_adaptive.c). */
+    uint32_t adaptive_refined_surfaces, adaptive_partial_surfaces;
     uint32_t luminaire_count;
     luminaire *luminaires;
 

@@ -296,6 +296,8 @@ void xrad_scene_get_info(const xrad_scene *scene, xrad_scene_info *info)
     info->normal_maps = scene->normal_maps;
     info->normal_mapped_elements = scene->normal_mapped_elements;
     info->normal_refined_surfaces = scene->normal_refined_surfaces;
+    info->adaptive_refined_surfaces = scene->adaptive_refined_surfaces;
+    info->adaptive_partial_surfaces = scene->adaptive_partial_surfaces;
     info->mapped_elements = scene->mapped_elements;
     info->luminaires = scene->luminaire_count;
     if (scene->element_albedo)

@@ -27,6 +27,7 @@ struct xrad_scene_builder {
     char file[512];
     double density;       /* scene default, per m, scaled */
     double density_scale; /* every density given times this */
+    xrad_adaptive_desc adaptive; /* defaults filled in */
     uint64_t elements;    /* so far, for the limit */
     uint32_t material_cap, object_cap, surface_cap, mesh_cap, luminaire_cap;
     /* Albedo and normal maps (scene_texture.h): per material once one has
@@ -154,6 +155,10 @@ xrad_status xrad_scene_builder_create(const xrad_scene_builder_desc *desc,
     if (d.density_scale != 0 && !(d.density_scale > 0 && d.density_scale <= 16))
         return xrad_fail(err, XRAD_ERROR_INPUT, "%s: density_scale %g is outside (0, 16]", name,
                          d.density_scale);
+    xrad_adaptive_desc ad;
+    xrad_status st = scene_adaptive_check(&d.adaptive, name, &ad, err);
+    if (st)
+        return st;
     xrad_scene_builder *b = calloc(1, sizeof(*b));
     if (!b || !(b->sc = calloc(1, sizeof(xrad_scene)))) {
         free(b);
@@ -164,8 +169,8 @@ xrad_status xrad_scene_builder_create(const xrad_scene_builder_desc *desc,
     b->sc->unit = 1.0;
     b->density_scale = d.density_scale > 0 ? d.density_scale : 1.0;
     b->sc->density_scale = b->density_scale;
-    xrad_status st = check_density(b, err, "", "density", d.density, 20 * b->density_scale,
-                                   &b->density);
+    b->adaptive = ad;
+    st = check_density(b, err, "", "density", d.density, 20 * b->density_scale, &b->density);
     if (st) {
         xrad_scene_builder_destroy(&b);
         return st;
@@ -202,6 +207,12 @@ void xrad_scene_builder_destroy(xrad_scene_builder **builder)
 xrad_scene *scene_builder_scene(xrad_scene_builder *b)
 {
     return b->sc;
+}
+
+xrad_status scene_builder_set_adaptive(xrad_scene_builder *b, const xrad_adaptive_desc *d,
+                                       xrad_error *err)
+{
+    return scene_adaptive_check(d, b->file, &b->adaptive, err);
 }
 
 xrad_status scene_builder_set_density(xrad_scene_builder *b, double scale, double density,
@@ -1204,7 +1215,9 @@ xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, x
     if (!b->has_camera)
         default_camera(sc);
     warn_unlit(b);
-    if ((b->uv && (st = refine_normal_mapped(b, err))) || (st = scene_build_elements(sc, err)) ||
+    if ((b->uv && (st = refine_normal_mapped(b, err))) ||
+        (b->adaptive.levels && (st = scene_adaptive_refine(b, &b->adaptive, &b->elements, err))) ||
+        (st = scene_build_elements(sc, err)) ||
         (b->uv && (st = scene_texture_apply(sc, b->maps, b->map_cap, b->uv, err)))) {
         b->failed = true;
         return st;

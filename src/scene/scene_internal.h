@@ -105,6 +105,8 @@ uint32_t scene_find_duplicate(name_ref *refs, uint32_t n);
 xrad_scene *scene_builder_scene(xrad_scene_builder *b);
 xrad_status scene_builder_set_density(xrad_scene_builder *b, double scale, double density,
                                       xrad_error *err);
+xrad_status scene_builder_set_adaptive(xrad_scene_builder *b, const xrad_adaptive_desc *d,
+                                       xrad_error *err);
 /* The current object's density, or the surface's own (`given`, 0: none),
  * scaled. */
 xrad_status scene_builder_surface_density(xrad_scene_builder *b, const char *where,
@@ -116,6 +118,16 @@ xrad_status scene_builder_quad(xrad_scene_builder *b, const xrad_quad_desc *q, c
 /* A note for the user about the input (what a model file has that xrad
  * ignores): kept in the scene, xrad_scene_warning. */
 void scene_builder_warn(xrad_scene_builder *b, const char *fmt, ...) XRAD_PRINTF(2, 3);
+
+/* Adaptive subdivision (xrad_adaptive_desc, scene_adaptive.c). check:
+ * *out = d with its defaults filled in, or XRAD_ERROR_INPUT naming `name`
+ * and the field. refine: raises the nu, nv of the scene's surfaces (before
+ * its elements are built), *elements counting the scene's elements for its
+ * limit; the builder keeps the warnings. */
+xrad_status scene_adaptive_check(const xrad_adaptive_desc *d, const char *name,
+                                 xrad_adaptive_desc *out, xrad_error *err);
+xrad_status scene_adaptive_refine(xrad_scene_builder *b, const xrad_adaptive_desc *d,
+                                  uint64_t *elements, xrad_error *err);
 
 /* Model files (scene_import.c, assimp). */
 typedef struct scene_import_desc {

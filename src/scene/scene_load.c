@@ -27,7 +27,9 @@ static xrad_status load_model(const char *path, const void *data, size_t size,
              base);
     xrad_scene_builder *b = NULL;
     xrad_status st = xrad_scene_builder_create(
-        &(xrad_scene_builder_desc){.name = path, .density_scale = desc ? desc->density_scale : 0},
+        &(xrad_scene_builder_desc){.name = path,
+                                   .density_scale = desc ? desc->density_scale : 0,
+                                   .adaptive = desc ? desc->adaptive : (xrad_adaptive_desc){0}},
         &b, err);
     if (!st)
         st = xrad_scene_builder_begin_object(b, &(xrad_object_desc){.name = name}, err);

@@ -27,6 +27,7 @@ typedef struct ctx {
     char where[3 * SCENE_NAME_MAX + 64];
     double unit;         /* m per file unit */
     double density_scale; /* every density read times this (quality.density_scale) */
+    xrad_adaptive_desc adaptive; /* the loader's; a zero field: quality's */
     name_ref *material_index; /* materials sorted by name, for lookups */
 } ctx;
 
@@ -939,6 +940,12 @@ static xrad_status parse_root(ctx *c, const cJSON *root)
     if ((st = get_density(c, root, "density", &density, &has)) ||
         (st = scene_builder_set_density(c->b, c->density_scale, density, c->err)))
         return st;
+    xrad_adaptive_desc ad = q.adaptive;
+    ad.levels = c->adaptive.levels ? c->adaptive.levels : ad.levels;
+    ad.lower = c->adaptive.lower > 0 ? c->adaptive.lower : ad.lower;
+    ad.upper = c->adaptive.upper > 0 ? c->adaptive.upper : ad.upper;
+    if ((st = scene_builder_set_adaptive(c->b, &ad, c->err)))
+        return st;
 
     const cJSON *mats = member(root, "materials");
     if (!mats)
@@ -1050,12 +1057,16 @@ xrad_status xrad_scene_parse_with(const char *json, size_t len, const char *name
     double scale = desc ? desc->density_scale : 0;
     xrad_scene_builder *b = NULL;
     xrad_status st = xrad_scene_builder_create(
-        &(xrad_scene_builder_desc){.name = name, .density_scale = scale}, &b, err);
+        &(xrad_scene_builder_desc){
+            .name = name, .density_scale = scale, .adaptive = desc ? desc->adaptive : (xrad_adaptive_desc){0}},
+        &b, err);
     if (st) {
         cJSON_Delete(root);
         return st;
     }
     ctx c = {.file = name, .err = err, .b = b, .density_scale = scale};
+    if (desc)
+        c.adaptive = desc->adaptive;
     st = parse_root(&c, root);
     free(c.material_index);
     cJSON_Delete(root);
