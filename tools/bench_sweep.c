@@ -50,6 +50,8 @@ static const struct {
     {"ambient", "off,on", M_SHOOT},
     {"conserve", "on,off,far", M_SHOOT},
     {"density_scale", "0.5,1,1.5", M_ALL},
+    {"adaptive_levels", "0,1,2", M_ALL},
+    {"adaptive_upper", "0.9,0.98", M_ALL},
 };
 
 static const char *const presets[] = {"draft", "interactive", "high"};

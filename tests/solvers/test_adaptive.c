@@ -189,6 +189,154 @@ done:
     xrad_scene_destroy(&high);
 }
 
+/* Area-weighted mean of R + G + B over surface s of an atlas. */
+static double surface_mean(const xrad_scene *sc, const xrad_atlas *a, uint32_t s)
+{
+    const surface *sf = &sc->surfaces[s];
+    double sum = 0, area = 0;
+    for (uint32_t k = 0; k < sf->nu * sf->nv; k++) {
+        const element *e = &sc->elements[sf->first_element + k];
+        const float *t = &a->rgba[4 * ((size_t)e->texel_y * a->width + e->texel_x)];
+        sum += e->area * ((double)t[0] + t[1] + t[2]);
+        area += e->area;
+    }
+    return sum / area;
+}
+
+/* What the display shows of surface s at parameters (u, v): the tile's
+ * bilinear interpolation (xrad.h xrad_surface_info), R + G + B. */
+static double display_value(const xrad_scene *sc, const xrad_atlas *a, uint32_t s, double u,
+                            double v)
+{
+    const surface *sf = &sc->surfaces[s];
+    double x = u * (sf->nu - 1), y = v * (sf->nv - 1);
+    uint32_t i = (uint32_t)fmin(floor(x), sf->nu > 1 ? sf->nu - 2 : 0);
+    uint32_t j = (uint32_t)fmin(floor(y), sf->nv > 1 ? sf->nv - 2 : 0);
+    double fx = sf->nu > 1 ? x - i : 0, fy = sf->nv > 1 ? y - j : 0;
+    double out = 0;
+    for (int c = 0; c < 4; c++) {
+        uint32_t ii = i + (c & 1 && sf->nu > 1), jj = j + (c >> 1 && sf->nv > 1);
+        const float *t =
+            &a->rgba[4 * ((size_t)(sf->tile_y + jj) * a->width + sf->tile_x + ii)];
+        double w = (c & 1 ? fx : 1 - fx) * (c >> 1 ? fy : 1 - fy);
+        out += w * ((double)t[0] + t[1] + t[2]);
+    }
+    return out;
+}
+
+typedef struct errors {
+    double surface_error; /* max over non-emitting surfaces, xrad_element_metrics' ratio */
+    const char *worst;
+    double floor_rms;     /* the floor as displayed at the fine receiver points, relative RMS */
+} errors;
+
+static bool emitting(const xrad_scene *sc, uint32_t s)
+{
+    vec3 e = sc->materials[sc->surfaces[s].material].emission;
+    return e.x > 0 || e.y > 0 || e.z > 0;
+}
+
+/* sol (on sc) against the fine reference (on fine): the same surfaces. */
+static errors compare(const xrad_scene *sc, const xrad_atlas *sol, const xrad_scene *fine,
+                      const xrad_atlas *ref)
+{
+    errors r = {0, "", 0};
+    double sum = 0, area = 0;
+    for (uint32_t s = 0; s < fine->surface_count; s++)
+        if (!emitting(fine, s)) {
+            sum += fine->surfaces[s].area * surface_mean(fine, ref, s);
+            area += fine->surfaces[s].area;
+        }
+    double floor_b = 1e-3 * sum / area;
+    for (uint32_t s = 0; s < fine->surface_count; s++) {
+        if (emitting(fine, s))
+            continue;
+        double b = surface_mean(fine, ref, s), a = surface_mean(sc, sol, s);
+        double e = fabs(a - b) / fmax(b, floor_b);
+        if (e > r.surface_error) {
+            r.surface_error = e;
+            r.worst = fine->surfaces[s].name;
+        }
+    }
+    uint32_t fl = find_surface(fine, "floor");
+    const surface *ff = &fine->surfaces[fl];
+    double d2 = 0, b2 = 0;
+    for (uint32_t k = 0; k < ff->nu * ff->nv; k++) {
+        const element *e = &fine->elements[ff->first_element + k];
+        const float *t = &ref->rgba[4 * ((size_t)e->texel_y * ref->width + e->texel_x)];
+        double u, v, b = (double)t[0] + t[1] + t[2];
+        scene_cell_centre(ff, e->i, e->j, &u, &v);
+        double a = display_value(sc, sol, find_surface(sc, "floor"), u, v);
+        d2 += e->area * (a - b) * (a - b);
+        b2 += e->area * b;
+    }
+    r.floor_rms = sqrt(d2 / ff->area) / (b2 / ff->area);
+    return r;
+}
+
+static void solves_part(xrad_context *ctx)
+{
+    xrad_error err = {0};
+    xrad_scene *fine = load("scenes/shadow-room.json", &(xrad_scene_load_desc){.density_scale = 4});
+    xrad_scene *adapt = load("scenes/shadow-room.json", &(xrad_scene_load_desc){.adaptive = {1}});
+    xrad_scene *uni = NULL;
+    xrad_atlas ref = {0};
+    if (!fine || !adapt)
+        goto done;
+    /* The uniform layout: the least density scale (steps of 1%) with at
+     * least the adaptive layout's elements. */
+    double scale = 1;
+    for (; scale < 4; scale += 0.01) {
+        uni = load("scenes/shadow-room.json", &(xrad_scene_load_desc){.density_scale = scale});
+        if (!uni || uni->element_count >= adapt->element_count)
+            break;
+        xrad_scene_destroy(&uni);
+    }
+    if (!uni)
+        goto done;
+    fprintf(stderr, "elements: adaptive %u, uniform %u (density x %.2f), fine %u\n",
+            adapt->element_count, uni->element_count, scale, fine->element_count);
+    CHECK(uni->element_count <= adapt->element_count * 1.1,
+          "uniform %u elements against adaptive %u: not a like-for-like count",
+          uni->element_count, adapt->element_count);
+    CHECK(solver_test_solve(ctx, fine, &(xrad_solver_desc){0}, &ref, &err) == XRAD_OK,
+          "fine reference: %s", err.message);
+    if (err.message[0])
+        goto done;
+    const struct {
+        const char *name;
+        xrad_method method;
+    } methods[] = {{"reference", (xrad_method)0}, {"progressive", XRAD_METHOD_PROGRESSIVE}};
+    for (size_t m = 0; m < sizeof(methods) / sizeof(methods[0]); m++) {
+        xrad_atlas aa = {0}, ua = {0};
+        xrad_solver_desc d = {.method = methods[m].method};
+        CHECK(solver_test_solve(ctx, adapt, &d, &aa, &err) == XRAD_OK &&
+                  solver_test_solve(ctx, uni, &d, &ua, &err) == XRAD_OK,
+              "%s: %s", methods[m].name, err.message);
+        if (aa.rgba && ua.rgba) {
+            errors ea = compare(adapt, &aa, fine, &ref), eu = compare(uni, &ua, fine, &ref);
+            fprintf(stderr,
+                    "%-12s surface_error adaptive %.4f (%s), uniform %.4f (%s); floor as "
+                    "displayed, relative RMS: adaptive %.4f, uniform %.4f\n",
+                    methods[m].name, ea.surface_error, ea.worst, eu.surface_error, eu.worst,
+                    ea.floor_rms, eu.floor_rms);
+            CHECK(ea.surface_error < eu.surface_error,
+                  "%s: adaptive surface_error %.4f is not below uniform's %.4f", methods[m].name,
+                  ea.surface_error, eu.surface_error);
+            CHECK(ea.floor_rms < eu.floor_rms,
+                  "%s: adaptive floor error %.4f is not below uniform's %.4f", methods[m].name,
+                  ea.floor_rms, eu.floor_rms);
+        }
+        xrad_atlas_destroy(&aa);
+        xrad_atlas_destroy(&ua);
+    }
+done:
+    xrad_atlas_destroy(&ref);
+    xrad_scene_destroy(&fine);
+    xrad_scene_destroy(&adapt);
+    xrad_scene_destroy(&uni);
+}
+
 int main(int argc, char **argv)
 {
     const char *only = argc > 1 ? argv[1] : NULL;
@@ -198,5 +346,12 @@ int main(int argc, char **argv)
     }
     if (!only || !strcmp(only, "layout"))
         layout_part();
+    if (!only || !strcmp(only, "solves")) {
+        xrad_context *ctx = gpu_test_context();
+        if (!ctx)
+            return test_finish();
+        solves_part(ctx);
+        gpu_test_end(&ctx);
+    }
     return test_finish();
 }
