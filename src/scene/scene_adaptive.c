@@ -110,6 +110,12 @@ static bool faces(const light *l, vec3 q, vec3 x, vec3 n)
     return v3_dot(l->normal, d) > 0;
 }
 
+/* Receiver points along a side of n samples. */
+static uint32_t receiver_side(uint32_t n)
+{
+    return n < 2 ? 2 : n > RECEIVER_POINTS ? RECEIVER_POINTS : n;
+}
+
 /* Whether surface r's visibility from some light is partial in Wallner's
  * sense: n_v < n_r and lower <= n_v / n_r <= upper. */
 static bool partial(const scene_rays *rs, uint32_t r, const light *lights, uint32_t nl,
@@ -117,8 +123,7 @@ static bool partial(const scene_rays *rs, uint32_t r, const light *lights, uint3
 {
     const xrad_scene *sc = rs->scene;
     const surface *sf = &sc->surfaces[r];
-    uint32_t mu = sf->nu < 2 ? 2 : sf->nu > RECEIVER_POINTS ? RECEIVER_POINTS : sf->nu;
-    uint32_t mv = sf->nv < 2 ? 2 : sf->nv > RECEIVER_POINTS ? RECEIVER_POINTS : sf->nv;
+    uint32_t mu = receiver_side(sf->nu), mv = receiver_side(sf->nv);
     vec3 x[RECEIVER_POINTS * RECEIVER_POINTS];
     grid_points(&rs->corners[4 * r], mu, mv, x);
     vec3 n = rs->normals[r];
@@ -254,8 +259,7 @@ xrad_status scene_adaptive_refine(xrad_scene_builder *b, const xrad_adaptive_des
     for (uint32_t s = 0; s < ns; s++)
         if (is_static(sc, s) && !emits(sc, s)) {
             const surface *sf = &sc->surfaces[s];
-            receiver_points += (uint64_t)(sf->nu > RECEIVER_POINTS ? RECEIVER_POINTS : sf->nu < 2 ? 2 : sf->nu) *
-                               (sf->nv > RECEIVER_POINTS ? RECEIVER_POINTS : sf->nv < 2 ? 2 : sf->nv);
+            receiver_points += (uint64_t)receiver_side(sf->nu) * receiver_side(sf->nv);
         }
     if (receiver_points * light_points > ADAPTIVE_MAX_RAYS) {
         scene_builder_warn(b,
