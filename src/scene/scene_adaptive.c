@@ -30,7 +30,6 @@
 
 #include "core/error.h"
 #include "scene/scene_internal.h"
-#include "scene/scene_texture.h"
 
 #define ADAPTIVE_MAX_LEVELS 4
 #define ADAPTIVE_LOWER 0.02
@@ -205,8 +204,7 @@ static xrad_status balance(const xrad_scene *sc, double tol, uint8_t *level, xra
         for (uint32_t i = 0; i < ne; i++)
             for (uint32_t j = i + 1; j < ne && !edge_cmp(&edges[i], &edges[j]); j++) {
                 uint32_t s = edges[i].surface, t = edges[j].surface;
-                bool coplanar =
-                    v3_dot(sc->surfaces[s].normal, sc->surfaces[t].normal) > 1 - 1e-9;
+                bool coplanar = v3_dot(sc->surfaces[s].normal, sc->surfaces[t].normal) > 1 - 1e-9;
                 uint8_t want_s = coplanar ? level[t] : level[t] ? level[t] - 1 : 0;
                 uint8_t want_t = coplanar ? level[s] : level[s] ? level[s] - 1 : 0;
                 if (level[s] < want_s) {
@@ -237,10 +235,10 @@ xrad_status scene_adaptive_refine(xrad_scene_builder *b, const xrad_adaptive_des
     light *lights = malloc(nl * sizeof(*lights));
     uint8_t *level = calloc(ns, 1);
     scene_rays rs = {0};
-    xrad_status st = !lights || !level ? xrad_fail(err, XRAD_ERROR_SYSTEM,
-                                                   "%s: out of memory for adaptive subdivision",
-                                                   sc->path)
-                                       : scene_rays_init(&rs, sc, 0, false, err);
+    xrad_status st = !lights || !level
+                         ? xrad_fail(err, XRAD_ERROR_SYSTEM,
+                                     "%s: out of memory for adaptive subdivision", sc->path)
+                         : scene_rays_init(&rs, sc, 0, false, err);
     if (st)
         goto done;
     nl = 0;
@@ -248,14 +246,16 @@ xrad_status scene_adaptive_refine(xrad_scene_builder *b, const xrad_adaptive_des
     for (uint32_t s = 0; s < ns; s++)
         if (emits(sc, s) && is_static(sc, s)) {
             light *l = &lights[nl++];
-            *l = (light){.surface = s, .count = EMITTER_POINTS * EMITTER_POINTS,
-                         .normal = rs.normals[s]};
+            *l = (light){
+                .surface = s, .count = EMITTER_POINTS * EMITTER_POINTS, .normal = rs.normals[s]};
             grid_points(&rs.corners[4 * s], EMITTER_POINTS, EMITTER_POINTS, l->p);
             light_points += l->count;
         }
     for (uint32_t k = 0; k < sc->luminaire_count; k++, light_points++)
-        lights[nl++] = (light){.surface = UINT32_MAX, .count = 1,
-                               .p = {sc->luminaires[k].position}, .lum = &sc->luminaires[k]};
+        lights[nl++] = (light){.surface = UINT32_MAX,
+                               .count = 1,
+                               .p = {sc->luminaires[k].position},
+                               .lum = &sc->luminaires[k]};
     for (uint32_t s = 0; s < ns; s++)
         if (is_static(sc, s) && !emits(sc, s)) {
             const surface *sf = &sc->surfaces[s];
@@ -282,16 +282,12 @@ xrad_status scene_adaptive_refine(xrad_scene_builder *b, const xrad_adaptive_des
         surface *sf = &sc->surfaces[s];
         uint32_t k = 0;
         for (; k < level[s]; k++) {
-            uint32_t nu = scene_texture_refined(sf->nu), nv = scene_texture_refined(sf->nv);
-            uint64_t more = (uint64_t)nu * nv - (uint64_t)sf->nu * sf->nv;
-            if (nu > SCENE_MAX_SAMPLES || nv > SCENE_MAX_SAMPLES ||
-                *elements + more > SCENE_MAX_ELEMENTS) {
+            uint32_t nu, nv;
+            if (!scene_split_fits(sf, *elements, &nu, &nv)) {
                 capped++;
                 break;
             }
-            sf->nu = nu;
-            sf->nv = nv;
-            *elements += more;
+            scene_split_take(sf, nu, nv, elements);
         }
         sc->adaptive_refined_surfaces += k > 0;
     }

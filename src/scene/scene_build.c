@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "scene/scene.h"
 #include "scene/scene_internal.h"
+#include "scene/scene_texture.h"
 
 /* Relative tolerance below which a corner or an area counts as degenerate. */
 #define DEGENERATE_EPS 1e-9
@@ -220,6 +221,22 @@ static void fill_surface_elements(const xrad_scene *scene, uint32_t si)
             e->texel_y = sf->tile_y + j;
         }
     }
+}
+
+bool scene_split_fits(const surface *sf, uint64_t elements, uint32_t *nu, uint32_t *nv)
+{
+    *nu = scene_texture_refined(sf->nu);
+    *nv = scene_texture_refined(sf->nv);
+    uint64_t more = (uint64_t)*nu * *nv - (uint64_t)sf->nu * sf->nv;
+    return *nu <= SCENE_MAX_SAMPLES && *nv <= SCENE_MAX_SAMPLES &&
+           elements + more <= SCENE_MAX_ELEMENTS;
+}
+
+void scene_split_take(surface *sf, uint32_t nu, uint32_t nv, uint64_t *elements)
+{
+    *elements += (uint64_t)nu * nv - (uint64_t)sf->nu * sf->nv;
+    sf->nu = nu;
+    sf->nv = nv;
 }
 
 xrad_status scene_build_elements(xrad_scene *scene, xrad_error *err)

@@ -1161,10 +1161,8 @@ static xrad_status refine_normal_mapped(xrad_scene_builder *b, xrad_error *err)
         const scene_material_maps *mm = &b->maps[sf->material];
         uint32_t level = 0;
         for (; level < mm->normal_levels; level++) {
-            uint32_t nu = scene_texture_refined(sf->nu), nv = scene_texture_refined(sf->nv);
-            uint64_t more = (uint64_t)nu * nv - (uint64_t)sf->nu * sf->nv;
-            if (nu > SCENE_MAX_SAMPLES || nv > SCENE_MAX_SAMPLES ||
-                b->elements + more > SCENE_MAX_ELEMENTS) {
+            uint32_t nu, nv;
+            if (!scene_split_fits(sf, b->elements, &nu, &nv)) {
                 capped++;
                 break;
             }
@@ -1173,9 +1171,7 @@ static xrad_status refine_normal_mapped(xrad_scene_builder *b, xrad_error *err)
                 return out_of_memory(b, err);
             if (!vary)
                 break;
-            sf->nu = nu;
-            sf->nv = nv;
-            b->elements += more;
+            scene_split_take(sf, nu, nv, &b->elements);
         }
         sc->normal_refined_surfaces += level > 0;
     }

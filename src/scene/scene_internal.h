@@ -168,6 +168,12 @@ xrad_status scene_load_model_memory(const char *name, const void *data, size_t s
 /* Allocates and fills the elements of every surface (whose nu, nv are set),
  * the objects' element ranges, and packs the atlas. */
 xrad_status scene_build_elements(xrad_scene *scene, xrad_error *err);
+/* Splitting every element of sf 1 -> 4 (scene_texture_refined): fits
+ * gives the new grid in *nu, *nv and whether the scene, `elements` so
+ * far, stays within SCENE_MAX_ELEMENTS and SCENE_MAX_SAMPLES; take
+ * applies it and counts the new elements. */
+bool scene_split_fits(const surface *sf, uint64_t elements, uint32_t *nu, uint32_t *nv);
+void scene_split_take(surface *sf, uint32_t nu, uint32_t nv, uint64_t *elements);
 
 /* Shelf-packs the surfaces' nu x nv tiles into an atlas of width <= 4096:
  * sets tile_x/tile_y and scene->atlas_width/height. */

@@ -1057,8 +1057,9 @@ xrad_status xrad_scene_parse_with(const char *json, size_t len, const char *name
     double scale = desc ? desc->density_scale : 0;
     xrad_scene_builder *b = NULL;
     xrad_status st = xrad_scene_builder_create(
-        &(xrad_scene_builder_desc){
-            .name = name, .density_scale = scale, .adaptive = desc ? desc->adaptive : (xrad_adaptive_desc){0}},
+        &(xrad_scene_builder_desc){.name = name,
+                                   .density_scale = scale,
+                                   .adaptive = desc ? desc->adaptive : (xrad_adaptive_desc){0}},
         &b, err);
     if (st) {
         cJSON_Delete(root);

@@ -53,8 +53,8 @@ static uint32_t find_surface(const xrad_scene *sc, const char *name)
     return 0;
 }
 
-static void check_grid(const xrad_scene *plain, const xrad_scene *sc, const char *name,
-                       int splits, const char *what)
+static void check_grid(const xrad_scene *plain, const xrad_scene *sc, const char *name, int splits,
+                       const char *what)
 {
     const surface *a = &plain->surfaces[find_surface(plain, name)];
     const surface *b = &sc->surfaces[find_surface(sc, name)];
@@ -119,7 +119,8 @@ static void layout_part(void)
         goto done;
     xrad_scene_info in;
     xrad_scene_get_info(plain, &in);
-    CHECK(in.adaptive_refined_surfaces == 0, "off: %u surfaces split", in.adaptive_refined_surfaces);
+    CHECK(in.adaptive_refined_surfaces == 0, "off: %u surfaces split",
+          in.adaptive_refined_surfaces);
     xrad_scene_get_info(one, &in);
     CHECK(in.adaptive_refined_surfaces == 1 && in.adaptive_partial_surfaces == 1,
           "1 level: %u split, %u partial; want the floor alone", in.adaptive_refined_surfaces,
@@ -160,8 +161,7 @@ static void layout_part(void)
         check_grid(halves0, halves, "floor.b", 1, "halves");
         const surface *a = &halves->surfaces[find_surface(halves, "floor")];
         const surface *b = &halves->surfaces[find_surface(halves, "floor.b")];
-        CHECK(a->nv == b->nv, "halves: %u and %u samples along their shared edge", a->nv,
-              b->nv);
+        CHECK(a->nv == b->nv, "halves: %u and %u samples along their shared edge", a->nv, b->nv);
     }
     xrad_scene_destroy(&halves0);
     xrad_scene_destroy(&halves);
@@ -178,7 +178,8 @@ static void layout_part(void)
                                &err) == XRAD_ERROR_INPUT &&
               strstr(err.message, "adaptive upper"),
           "upper 1.5: %s", err.message);
-    const char *json = "{\"quality\": {\"adaptive_levels\": 7}, \"materials\": [], \"objects\": []}";
+    const char *json =
+        "{\"quality\": {\"adaptive_levels\": 7}, \"materials\": [], \"objects\": []}";
     CHECK(xrad_scene_parse(json, strlen(json), "q.json", &bad, &err) == XRAD_ERROR_INPUT &&
               strstr(err.message, "adaptive_levels") && strstr(err.message, "q.json"),
           "quality.adaptive_levels 7: %s", err.message);
@@ -216,8 +217,7 @@ static double display_value(const xrad_scene *sc, const xrad_atlas *a, uint32_t 
     double out = 0;
     for (int c = 0; c < 4; c++) {
         uint32_t ii = i + (c & 1 && sf->nu > 1), jj = j + (c >> 1 && sf->nv > 1);
-        const float *t =
-            &a->rgba[4 * ((size_t)(sf->tile_y + jj) * a->width + sf->tile_x + ii)];
+        const float *t = &a->rgba[4 * ((size_t)(sf->tile_y + jj) * a->width + sf->tile_x + ii)];
         double w = (c & 1 ? fx : 1 - fx) * (c >> 1 ? fy : 1 - fy);
         out += w * ((double)t[0] + t[1] + t[2]);
     }
@@ -227,7 +227,7 @@ static double display_value(const xrad_scene *sc, const xrad_atlas *a, uint32_t 
 typedef struct errors {
     double surface_error; /* max over non-emitting surfaces, xrad_element_metrics' ratio */
     const char *worst;
-    double floor_rms;     /* the floor as displayed at the fine receiver points, relative RMS */
+    double floor_rms; /* the floor as displayed at the fine receiver points, relative RMS */
 } errors;
 
 static bool emitting(const xrad_scene *sc, uint32_t s)
@@ -297,8 +297,8 @@ static void solves_part(xrad_context *ctx)
     fprintf(stderr, "elements: adaptive %u, uniform %u (density x %.2f), fine %u\n",
             adapt->element_count, uni->element_count, scale, fine->element_count);
     CHECK(uni->element_count <= adapt->element_count * 1.1,
-          "uniform %u elements against adaptive %u: not a like-for-like count",
-          uni->element_count, adapt->element_count);
+          "uniform %u elements against adaptive %u: not a like-for-like count", uni->element_count,
+          adapt->element_count);
     CHECK(solver_test_solve(ctx, fine, &(xrad_solver_desc){0}, &ref, &err) == XRAD_OK,
           "fine reference: %s", err.message);
     if (err.message[0])
