@@ -589,6 +589,10 @@ typedef struct xrad_reference_desc {
     double residual;        /* stop when, in every RGB channel, max |delta B| / max B of a
                                sweep < this; default 1e-6 */
     uint32_t max_sweeps;    /* Gauss-Seidel sweeps at most; default 100000 */
+    uint32_t cell_points;   /* DENSE: receiving points per cell side, at most 8: an element's
+                               form factors are their mean over k x k points of its cell, its
+                               radiosity the cell's mean (as the shooting methods' conservation
+                               gives it); default 1: the cell's centre (README "Accuracy") */
     uint32_t threads;       /* worker threads; default: online cores */
     xrad_progress_fn progress;
     void *progress_user;

@@ -11,7 +11,7 @@ typedef struct bench_opts {
     const char *scenes[8];
     int scene_count;
     const char *methods, *json, *cache, *device;
-    uint32_t repeat, width, height, ref_rays, max_ref_elements, ref_gather_rays;
+    uint32_t repeat, width, height, ref_rays, max_ref_elements, ref_gather_rays, ref_cell_points;
     xrad_visibility ref_visibility; /* --reference-visibility */
     bool ref_rays_set;              /* --reference-rays given */
     double time, fps;

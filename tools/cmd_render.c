@@ -49,6 +49,10 @@ static void help(void)
            "                    --gather-rays Monte Carlo rays per element; meshes of 100K\n"
            "                    triangles), auto (dense up to about 23,000 elements) [auto]\n"
            "  --gather-rays N   reference, gather: rays per element [256]\n"
+           "  --cell-points N   reference, dense solver: an element's form factors are their\n"
+           "                    mean over N x N points of its cell, its radiosity the cell's\n"
+           "                    mean, as conservation gives the shooting methods [1: the\n"
+           "                    cell's centre]\n"
            "  --residual R      reference: Gauss-Seidel stop, max|dB|/max B per sweep [1e-6]\n"
            "  --threads N       reference: worker threads [online cores]\n"
            "  --device NAME     Vulkan device (substring; see xrad devices)\n"
@@ -134,6 +138,8 @@ static int parse(int argc, char **argv, render_opts *o)
             method_reference_solver_option(&a, &o->m.reference.solver);
         } else if (!strcmp(opt, "gather-rays")) {
             cli_uint(&a, 1, 65536, &o->m.reference.gather_rays);
+        } else if (!strcmp(opt, "cell-points")) {
+            cli_uint(&a, 1, 8, &o->m.reference.cell_points);
         } else if (!strcmp(opt, "residual")) {
             cli_double(&a, 1e-15, 1, &o->m.reference.residual);
         } else if (!strcmp(opt, "threads")) {

@@ -62,8 +62,22 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
                                 ref_geometry **out, xrad_error *err);
 void ref_geometry_destroy(ref_geometry **geometry);
 
+/* A receiving point of element `element` (surface `surface`): its
+ * position p, receiver normal n and rays' origin o. An element's own is
+ * its cell's centre (ref_receiver_of); xrad_reference_desc.cell_points
+ * adds others over its cell. */
+typedef struct ref_receiver {
+    vec3 p, n, o;
+    uint32_t element, surface;
+} ref_receiver;
+
+static inline ref_receiver ref_receiver_of(const ref_geometry *g, uint32_t i)
+{
+    return (ref_receiver){g->recv[i], g->normal[i], g->origin[i], i, g->surface_of[i]};
+}
+
 /* The visible fraction of F(x_i -> polygon) (thesis eq. 2.2.3's HID
- * term): g->rays rays from the origin of element i to stratified points
+ * term): g->rays rays from the origin of receiver r to stratified points
  * of `poly` (4 world corners, wound like its surface; `poly_normal` its unit
  * normal) drawn from `seed`, each weighted by the form factor integrand at
  * its end (cos phi_i cos phi_j / r^2; the 1/pi and the uniform area
@@ -71,29 +85,30 @@ void ref_geometry_destroy(ref_geometry **geometry);
  * exact visible form factor as rays grow; an unweighted fraction of the
  * area converges to a biased value where the polygon is large next to its
  * distance to x_i. Blockers: the `count` candidate quads, or with g->bvh
- * every quad but i's own, `target` (the polygon's surface) and those in
+ * every quad but r's own, `target` (the polygon's surface) and those in
  * their planes. */
-double ref_visible_fraction(const ref_geometry *g, uint32_t i, uint32_t target,
-                            const vec3 *poly, vec3 poly_normal, uint64_t seed,
-                            const uint32_t *cand, uint32_t count);
+double ref_visible_fraction(const ref_geometry *g, const ref_receiver *r, uint32_t target,
+                            const vec3 *poly, vec3 poly_normal, uint64_t seed, const uint32_t *cand,
+                            uint32_t count);
 
 /* Working memory of ref_form_factor_row, one per thread: per surface an
- * occluder candidate, its shadow cone and a candidate of one cell, and the
- * visible pieces of one cell. */
+ * occluder candidate, its shadow cone and a candidate of one cell, the
+ * visible pieces of one cell, and a row. */
 typedef struct ref_row_scratch {
     uint32_t *cand, *cell_cand;
     ref_cone *cone;
     ref_pieces *pieces;
+    float *row; /* a row of element_count, for a cell's points (cell_points) */
 } ref_row_scratch;
 
 /* Allocates scratch for g; false when out of memory (s is then finished). */
 bool ref_row_scratch_init(ref_row_scratch *s, const ref_geometry *g);
 void ref_row_scratch_finish(ref_row_scratch *s);
 
-/* Fills row[0..element_count-1] with F_ij for receiver i (0 for elements of
- * i's own surface and for cells that face away) and returns the row's sum.
+/* Fills row[0..element_count-1] with F_ij for receiver r (0 for elements of
+ * r's own surface and for cells that face away) and returns the row's sum.
  * Thread-safe for distinct rows and scratch. */
-double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
+double ref_form_factor_row(const ref_geometry *g, const ref_receiver *r, float *row,
                            ref_row_scratch *scratch);
 
 /* The dense form factor matrix, row-major element_count^2 floats (malloc'd,

@@ -114,6 +114,7 @@ static void trace_element(void *user, uint32_t thread, uint32_t i)
     const xrad_scene *scene = G->scene;
     uint32_t own = g->surface_of[i];
     vec3 p = g->recv[i], n = g->normal[i], o = g->origin[i];
+    ref_receiver rc = ref_receiver_of(g, i);
 
     /* Light from the emitters (next-event estimation). */
     double d[3] = {0, 0, 0};
@@ -125,7 +126,7 @@ static void trace_element(void *user, uint32_t thread, uint32_t i)
         double f = ref_ff_point_polygon(p, n, q->p, 4);
         if (!(f > 0))
             continue;
-        f *= ref_visible_fraction(g, i, S, q->p, q->normal, ref_pair_seed(i, UINT32_MAX - S),
+        f *= ref_visible_fraction(g, &rc, S, q->p, q->normal, ref_pair_seed(i, UINT32_MAX - S),
                                   NULL, 0);
         vec3 e = material_of(scene, S)->emission;
         d[0] += f * e.x;

@@ -23,6 +23,7 @@
 #define DEFAULT_RESIDUAL 1e-6
 #define DEFAULT_MAX_SWEEPS 100000
 #define MAX_RAYS 65536
+#define MAX_CELL_POINTS 8
 #define MAX_THREADS 256
 
 double ref_seconds(void)
@@ -150,11 +151,11 @@ xrad_status ref_geometry_create(const xrad_scene *scene, double time, uint32_t r
     return XRAD_OK;
 }
 
-double ref_visible_fraction(const ref_geometry *g, uint32_t i, uint32_t target,
-                            const vec3 *poly, vec3 poly_normal, uint64_t seed,
-                            const uint32_t *cand, uint32_t count)
+double ref_visible_fraction(const ref_geometry *g, const ref_receiver *r, uint32_t target,
+                            const vec3 *poly, vec3 poly_normal, uint64_t seed, const uint32_t *cand,
+                            uint32_t count)
 {
-    vec3 p = g->recv[i], n = g->normal[i];
+    vec3 p = r->p, n = r->n;
     double seen = 0, total = 0;
     uint32_t open = 0;
     for (uint32_t k0 = 0; k0 < g->rays; k0 += REF_RAYS_BATCH) {
@@ -167,20 +168,20 @@ double ref_visible_fraction(const ref_geometry *g, uint32_t i, uint32_t target,
             to[k] = bilinear(poly, s, t);
         }
         if (g->bvh) {
-            ref_rays_occluded(g->bvh, g->surface_of[i], target, g->origin[i], to, m, blocked);
+            ref_rays_occluded(g->bvh, r->surface, target, r->o, to, m, blocked);
         } else {
             for (uint32_t k = 0; k < m; k++) {
                 blocked[k] = false;
                 for (uint32_t c = 0; c < count && !blocked[k]; c++)
-                    blocked[k] = ref_segment_hits_quad(&g->quads[cand[c]], g->origin[i], to[k]);
+                    blocked[k] = ref_segment_hits_quad(&g->quads[cand[c]], r->o, to[k]);
             }
         }
         for (uint32_t k = 0; k < m; k++) {
-            vec3 r = v3_sub(to[k], p);
-            double r2 = v3_dot(r, r);
-            double w = r2 > 0 ? fmax(0.0, v3_dot(n, r)) * fmax(0.0, -v3_dot(poly_normal, r)) /
-                                    (r2 * r2)
-                              : 0;
+            vec3 d = v3_sub(to[k], p);
+            double r2 = v3_dot(d, d);
+            double w =
+                r2 > 0 ? fmax(0.0, v3_dot(n, d)) * fmax(0.0, -v3_dot(poly_normal, d)) / (r2 * r2)
+                       : 0;
             total += w;
             seen += blocked[k] ? 0 : w;
             open += !blocked[k];
@@ -192,13 +193,13 @@ double ref_visible_fraction(const ref_geometry *g, uint32_t i, uint32_t target,
 }
 
 /* Where clipping gives up, and every pair with rays visibility. */
-static double visibility(const ref_geometry *g, uint32_t i, uint32_t j, const uint32_t *cand,
-                         uint32_t count)
+static double visibility(const ref_geometry *g, const ref_receiver *r, uint32_t j,
+                         const uint32_t *cand, uint32_t count)
 {
     /* The shooter's cosine is its surface's (xrad.h normal_map). */
-    return ref_visible_fraction(g, i, g->surface_of[j], g->cell[j],
-                                g->quads[g->surface_of[j]].normal, ref_pair_seed(i, j), cand,
-                                count);
+    return ref_visible_fraction(g, r, g->surface_of[j], g->cell[j],
+                                g->quads[g->surface_of[j]].normal, ref_pair_seed(r->element, j),
+                                cand, count);
 }
 
 void ref_row_scratch_finish(ref_row_scratch *s)
@@ -207,6 +208,7 @@ void ref_row_scratch_finish(ref_row_scratch *s)
     free(s->cell_cand);
     free(s->cone);
     free(s->pieces);
+    free(s->row);
     *s = (ref_row_scratch){0};
 }
 
@@ -217,19 +219,20 @@ bool ref_row_scratch_init(ref_row_scratch *s, const ref_geometry *g)
     s->cell_cand = malloc(ns * sizeof *s->cell_cand);
     s->cone = malloc(ns * sizeof *s->cone);
     s->pieces = malloc(sizeof *s->pieces);
-    if (!s->cand || !s->cell_cand || !s->cone || !s->pieces) {
+    s->row = malloc((g->element_count ? g->element_count : 1) * sizeof *s->row);
+    if (!s->cand || !s->cell_cand || !s->cone || !s->pieces || !s->row) {
         ref_row_scratch_finish(s);
         return false;
     }
     return true;
 }
 
-double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
+double ref_form_factor_row(const ref_geometry *g, const ref_receiver *r, float *row,
                            ref_row_scratch *scratch)
 {
     memset(row, 0, (size_t)g->element_count * sizeof *row);
-    uint32_t own = g->surface_of[i];
-    vec3 p = g->recv[i], n = g->normal[i], o = g->origin[i];
+    uint32_t own = r->surface;
+    vec3 p = r->p, n = r->n, o = r->o;
     uint32_t *cand = scratch->cand, *cell_cand = scratch->cell_cand;
     ref_cone *cone = scratch->cone;
     double sum = 0;
@@ -253,7 +256,7 @@ double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
                 double f = ref_ff_point_polygon(p, n, g->cell[j], 4);
                 if (!(f > 0))
                     continue;
-                row[j] = (float)(f * visibility(g, i, j, NULL, 0));
+                row[j] = (float)(f * visibility(g, r, j, NULL, 0));
                 sum += row[j];
             }
             continue;
@@ -284,7 +287,7 @@ double ref_form_factor_row(const ref_geometry *g, uint32_t i, float *row,
                     if (ref_quad_may_block(&g->quads[cand[c]], o, g->cell[j], g->tol))
                         cell_cand[m++] = cand[c];
                 if (m)
-                    f *= visibility(g, i, j, cell_cand, m);
+                    f *= visibility(g, r, j, cell_cand, m);
             }
             row[j] = (float)f;
             sum += row[j];
@@ -298,13 +301,39 @@ typedef struct build_job {
     float *F;
     double *row_sum;
     ref_row_scratch *scratch; /* per thread */
+    uint32_t cell_points;     /* xrad_reference_desc.cell_points */
 } build_job;
 
+/* Row i: the form factors from its cell's centre, or with cell_points k
+ * > 1 their mean over k x k points of its cell (the midpoints of a k x k
+ * split of its parameters), so that B_i is its cell's mean by that rule
+ * rather than its centre's value: the quantity conservation gives the
+ * shooting methods (README "Accuracy"). */
 static void build_row(void *user, uint32_t thread, uint32_t i)
 {
     build_job *job = user;
-    job->row_sum[i] = ref_form_factor_row(job->g, i, job->F + (size_t)i * job->g->element_count,
-                                          &job->scratch[thread]);
+    const ref_geometry *g = job->g;
+    float *row = job->F + (size_t)i * g->element_count;
+    ref_row_scratch *scratch = &job->scratch[thread];
+    ref_receiver r = ref_receiver_of(g, i);
+    uint32_t k = job->cell_points;
+    if (k <= 1) {
+        job->row_sum[i] = ref_form_factor_row(g, &r, row, scratch);
+        return;
+    }
+    double sum = 0;
+    for (uint32_t e = 0; e < g->element_count; e++)
+        row[e] = 0;
+    vec3 lift = v3_scale(g->quads[r.surface].normal, REF_RAY_HAIR * g->scale);
+    for (uint32_t b = 0; b < k; b++)
+        for (uint32_t a = 0; a < k; a++) {
+            r.p = bilinear(g->cell[i], (a + 0.5) / k, (b + 0.5) / k);
+            r.o = v3_add(r.p, lift);
+            sum += ref_form_factor_row(g, &r, scratch->row, scratch);
+            for (uint32_t e = 0; e < g->element_count; e++)
+                row[e] += scratch->row[e] / (float)(k * k);
+        }
+    job->row_sum[i] = sum / (k * k);
 }
 
 static uint32_t default_threads(void)
@@ -335,6 +364,9 @@ static xrad_status check_desc(const xrad_scene *scene, const xrad_reference_desc
     if (d->gather_rays > MAX_RAYS)
         return xrad_fail(err, XRAD_ERROR_INPUT, "reference: %u gather rays per element (at "
                          "most %u)", d->gather_rays, MAX_RAYS);
+    if (d->cell_points > MAX_CELL_POINTS)
+        return xrad_fail(err, XRAD_ERROR_INPUT, "reference: cell_points %u is more than %u a side",
+                         d->cell_points, MAX_CELL_POINTS);
     uint64_t n = scene->element_count;
     if (d->solver == XRAD_REFERENCE_SOLVER_AUTO)
         d->solver = n * n * sizeof(float) > REF_MATRIX_MAX_BYTES ? XRAD_REFERENCE_SOLVER_GATHER
@@ -342,6 +374,12 @@ static xrad_status check_desc(const xrad_scene *scene, const xrad_reference_desc
     if (d->solver == XRAD_REFERENCE_SOLVER_GATHER && d->visibility == XRAD_VISIBILITY_CLIP)
         return xrad_fail(err, XRAD_ERROR_INPUT, "reference: the gather solver sees by rays "
                          "only (visibility clip needs the dense solver)");
+    if (d->solver == XRAD_REFERENCE_SOLVER_GATHER && d->cell_points > 1)
+        return xrad_fail(err, XRAD_ERROR_INPUT,
+                         "reference: cell_points %u needs the dense "
+                         "solver (the gather solver takes each cell's centre)",
+                         d->cell_points);
+    d->cell_points = d->cell_points ? d->cell_points : 1;
     d->gather_rays = d->gather_rays ? d->gather_rays : DEFAULT_GATHER_RAYS;
     bool rays = d->visibility == XRAD_VISIBILITY_RAYS ||
                 d->solver == XRAD_REFERENCE_SOLVER_GATHER ||
@@ -379,7 +417,7 @@ xrad_status ref_form_factor_matrix(const xrad_scene *scene, const xrad_reference
         return st;
 
     uint32_t threads = d.threads < n ? d.threads : (uint32_t)(n ? n : 1);
-    build_job job = {.g = g};
+    build_job job = {.g = g, .cell_points = d.cell_points};
     job.F = malloc(bytes ? bytes : 1);
     job.row_sum = malloc((n ? n : 1) * sizeof *job.row_sum);
     job.scratch = calloc(threads, sizeof *job.scratch);

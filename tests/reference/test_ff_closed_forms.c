@@ -7,9 +7,11 @@
  */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "harness.h"
 #include "reference/ff_kernel.h"
+#include "xrad.h"
 
 /* Howell B-3: plane element dA1 parallel to a plane rectangle a x b at
  * distance c, the element's normal passing through a corner of the
@@ -266,6 +268,87 @@ static void test_cube_closure(void)
     CHECK_ABS(sum, 1.0, 1e-4);
 }
 
+/* xrad_reference_desc.cell_points: two opposed unit squares 1 apart, the
+ * upper emitting E = 1 (albedo 0), the lower of albedo 0.5 split into
+ * 3 x 3 elements (edge elements half, corner ones a quarter of a cell).
+ * Its area-weighted mean radiosity is 0.5 F(A -> A) exactly when every
+ * element holds its cell's mean (Howell C-11: 0.19982); from the cells'
+ * centres (cell_points 1) it is the midpoint rule's estimate. */
+static double lower_mean(uint32_t cell_points, double *want)
+{
+    static const char *json =
+        "{\"density\": 2, \"materials\": [{\"name\": \"grey\", \"albedo\": [0.5, 0.5, 0.5]},"
+        " {\"name\": \"lamp\", \"albedo\": [0, 0, 0], \"emission\": [1, 1, 1]}],"
+        " \"objects\": [{\"name\": \"o\", \"surfaces\": ["
+        "{\"name\": \"lower\", \"material\": \"grey\", \"quad\": {\"origin\": [0, 0, 0],"
+        " \"u\": [1, 0, 0], \"v\": [0, 1, 0]}},"
+        "{\"name\": \"upper\", \"material\": \"lamp\", \"quad\": {\"origin\": [0, 0, 1],"
+        " \"u\": [0, 1, 0], \"v\": [1, 0, 0]}}]}]}";
+    xrad_error err = {0};
+    xrad_scene *sc = NULL;
+    xrad_atlas a = {0};
+    xrad_surface_info si;
+    double mean = NAN;
+    *want = 0.5 * howell_c11(1, 1, 1);
+    if (xrad_scene_parse(json, strlen(json), "squares.json", &sc, &err) ||
+        xrad_scene_get_surface(sc, 0, &si, &err) || xrad_atlas_create(sc, &a, &err) ||
+        xrad_reference_solve(sc, &(xrad_reference_desc){.cell_points = cell_points, .threads = 2},
+                             &a, NULL, &err)) {
+        CHECK(0, "cell_points %u: %s", cell_points, err.message);
+        goto done;
+    }
+    CHECK(si.nu == 3 && si.nv == 3, "the lower square has %u x %u elements, want 3 x 3", si.nu,
+          si.nv);
+    double sum = 0, w_sum = 0;
+    for (uint32_t j = 0; j < si.nv; j++)
+        for (uint32_t i = 0; i < si.nu; i++) {
+            double w = (i == 0 || i == si.nu - 1 ? 0.5 : 1) * (j == 0 || j == si.nv - 1 ? 0.5 : 1);
+            sum += w * a.rgba[4 * ((size_t)(si.tile_y + j) * a.width + si.tile_x + i)];
+            w_sum += w;
+        }
+    mean = sum / w_sum;
+done:
+    xrad_atlas_destroy(&a);
+    xrad_scene_destroy(&sc);
+    return mean;
+}
+
+static void test_cell_points(void)
+{
+    double want;
+    double centre = lower_mean(1, &want), cells = lower_mean(8, &want);
+    double e1 = fabs(centre / want - 1), e8 = fabs(cells / want - 1);
+    fprintf(stderr,
+            "cell means: 0.5 F(A->A) = %.6f; cell_points 1: %.6f (%.2g off), 8: %.6f (%.2g off)\n",
+            want, centre, e1, cells, e8);
+    CHECK(e8 < 2e-3, "cell_points 8: the mean %.6f is %.2g off 0.5 F(A->A) = %.6f", cells, e8,
+          want);
+    CHECK(e1 > 3 * e8, "cell_points 1 (%.2g off) is no worse than 8 (%.2g): the test shows nothing",
+          e1, e8);
+    xrad_error err = {0};
+    xrad_scene *sc = NULL;
+    const char *json = "{\"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5]}],"
+                       " \"objects\": [{\"name\": \"o\", \"surfaces\": [{\"name\": \"s\","
+                       " \"material\": \"m\", \"quad\": {\"origin\": [0, 0, 0],"
+                       " \"u\": [1, 0, 0], \"v\": [0, 1, 0]}}]}]}";
+    xrad_atlas a = {0};
+    if (!xrad_scene_parse(json, strlen(json), "one.json", &sc, &err) &&
+        !xrad_atlas_create(sc, &a, &err)) {
+        CHECK(xrad_reference_solve(sc, &(xrad_reference_desc){.cell_points = 9}, &a, NULL, &err) ==
+                      XRAD_ERROR_INPUT &&
+                  strstr(err.message, "cell_points"),
+              "cell_points 9: %s", err.message);
+        CHECK(xrad_reference_solve(
+                  sc,
+                  &(xrad_reference_desc){.cell_points = 2, .solver = XRAD_REFERENCE_SOLVER_GATHER},
+                  &a, NULL, &err) == XRAD_ERROR_INPUT &&
+                  strstr(err.message, "dense"),
+              "cell_points with the gather solver: %s", err.message);
+    }
+    xrad_atlas_destroy(&a);
+    xrad_scene_destroy(&sc);
+}
+
 int main(void)
 {
     test_gauss_legendre();
@@ -274,5 +357,6 @@ int main(void)
     test_point_degenerate();
     test_area_closed_forms();
     test_cube_closure();
+    test_cell_points();
     return test_finish();
 }
