@@ -69,8 +69,8 @@ static void check_grid(const xrad_scene *plain, const xrad_scene *sc, const char
 
 static const char *const room_surfaces[] = {"back", "front", "left", "right"};
 
-/* The shadow room's JSON with `edit` applied: the table left out, or the
- * floor cut in two halves along x = 2. */
+/* The shadow room's JSON changed as `which` says: "no-table" leaves the
+ * table out, "halves" cuts the floor in two coplanar parts at z = 3. */
 static xrad_scene *room_variant(const char *which, uint32_t levels, xrad_error *err)
 {
     char path[1024];
