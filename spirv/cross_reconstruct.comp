@@ -5,7 +5,8 @@
 // C_EVAL:
 //
 //  CROSS_RECONSTRUCT_M_DIRECT, element of M: rho x the direct light of the
-//  lights of C, through their ID hemicubes with M (lit_direct), into B;
+//  lights of C, through their ID hemicubes with M (lit_direct), and the
+//  luminaires' at the pose (`luminaires`), into B;
 //
 //  CROSS_RECONSTRUCT_M, element of M (R_p(M, M), reshooting): the total
 //  radiosity of each other patch it sees, RECONSTRUCTIONSHADER(s, e,
@@ -27,7 +28,8 @@
 //  CROSS_RECONSTRUCT_C, element e of C (R_p(M, C) + R_x(C, C), the
 //  new-pose half of eq. 3.3.1 as DESIGN.md writes it), summing its pairs:
 //    X_e = rho_e (sum over the patches s' e sees of F (B_s' - P(C, s', e))
-//                 - the direct light M hides from e, blocked_direct),
+//                 - the direct light M hides from e, blocked_direct)
+//          + the change M makes in the luminaires' light reflected (lum),
 //  B_s' the patch's total, P(C, s', e) the shot radiosity of C less its
 //  emission that s' hides from e. The new-pose projected term is subtracted, as in eq.
 //  3.3.1: the patch hides what lies behind it (line 39 of Algorithm 4.5
@@ -102,6 +104,7 @@ layout(std430, binding = CROSS_RECONSTRUCT_BINDING_QUADS) readonly buffer Quads 
 layout(binding = CROSS_RECONSTRUCT_BINDING_IDS) uniform utexture2DArray ids;
 layout(binding = CROSS_RECONSTRUCT_BINDING_BACK) uniform texture2DArray back;
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_INSERTED) buffer Inserted { vec4 inserted[]; };
+layout(std430, binding = CROSS_RECONSTRUCT_BINDING_LUMINAIRES) readonly buffer Luminaires { vec4 luminaires[]; };
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_LIGHTS) readonly buffer Lights { gpu_shooter lights[]; };
 layout(std430, binding = CROSS_RECONSTRUCT_BINDING_LIGHT_QUADS) readonly buffer LightQuads { cross_quad light_quads[]; };
 layout(binding = CROSS_RECONSTRUCT_BINDING_LIGHT_IDS_C) uniform utexture2DArray light_ids_c;
@@ -615,8 +618,11 @@ void main()
     vec3 ne = elements[e].normal.xyz;
     uint id = se + 1u;
     vec3 rho = elements[e].albedo.rgb;
+    // The luminaires' light (src/solvers/luminaire_change.h): M's at the
+    // pose; on C the change from C's own that M makes.
+    vec3 lum = pc.luminaires != 0u ? luminaires[e].rgb : vec3(0.0);
     if (pc.phase == CROSS_RECONSTRUCT_M_DIRECT) {
-        B[e].rgb += rho * lit_direct(x, ne, id);
+        B[e].rgb += rho * lit_direct(x, ne, id) + lum;
         return;
     }
     if (pc.phase == CROSS_RECONSTRUCT_C_PAIRS) {
@@ -658,7 +664,7 @@ void main()
     // from C (B - E without the last X). Like any X it is replaced next time,
     // so the light returns when the object leaves.
     vec3 X = hidden ? materials[sr.material].emission.rgb - (B[e].rgb - inserted[e].rgb)
-                    : rho * (gathered - blocked_direct(x, ne, id));
+                    : rho * (gathered - blocked_direct(x, ne, id)) + lum;
     vec3 dB = X - inserted[e].rgb;
     inserted[e] = vec4(X, 0.0);
     B[e].rgb += dB;

@@ -137,7 +137,11 @@ struct cross_update_push {
  * CROSS_LIGHT_UNREACHED: M lies behind the light's plane, so M neither
  * takes its light nor hides any of it. */
 #define CROSS_RECONSTRUCT_BINDING_LIGHT_LAYERS 24
-#define CROSS_RECONSTRUCT_BINDING_COUNT 25
+/* vec4[element_count] (push `luminaires`): rho x the luminaires' direct
+ * light at the pose on M, its change from that of C alone on C
+ * (src/solvers/luminaire_change.h). */
+#define CROSS_RECONSTRUCT_BINDING_LUMINAIRES 25
+#define CROSS_RECONSTRUCT_BINDING_COUNT 26
 #define CROSS_LIGHT_UNREACHED 0xffffffffu
 
 /* cross_reconstruct.comp phases */
@@ -200,6 +204,7 @@ struct cross_reconstruct_push {
     float cut;             /* a pair of C whose term can be at most this share of the
                               largest radiosity is left out (xrad.h cross_cut); 0: none */
     uint back_levels;      /* mip levels of the back hemicubes above level 0 (0: none) */
+    uint luminaires;       /* 1: M_DIRECT and phase C add the luminaires buffer */
 };
 
 /* Back hemicube mips (src/passes/back_mips.c, spirv/back_mips.comp; layout

@@ -10,7 +10,8 @@
 //             the host sizes the shooting patches of C by (thesis 4.3.3);
 //  RESET      per element: M back to its emission, B = Bu = E (line 6, to
 //             be reshot), and C's unshot radiosity cleared (line 9: the
-//             C shooters shoot it in this redistribution);
+//             C shooters shoot it in this redistribution); the luminaires'
+//             light at the new pose with them (reset());
 //  NEGATIVE   per element of C: the first part of R_p(M, C) (lines 3-5):
 //             minus the shot radiosity of each patch of M, through its ID
 //             hemicube at the old pose, with the old form factor;
@@ -62,6 +63,7 @@ layout(std430, binding = INCR_BINDING_SHOOTERS) readonly buffer Shooters { gpu_s
 layout(std430, binding = INCR_BINDING_VALUES) buffer Values { incr_value values[]; };
 layout(std430, binding = INCR_BINDING_B_BEFORE) readonly buffer Before { vec4 b_before[]; };
 layout(std430, binding = INCR_BINDING_POWER) writeonly buffer Power { float power[]; };
+layout(std430, binding = INCR_BINDING_LUMINAIRES) readonly buffer Luminaires { vec4 luminaires[]; };
 layout(binding = INCR_BINDING_IDS_OLD) uniform utexture2DArray ids_old;
 layout(binding = INCR_BINDING_IDS_NEW) uniform utexture2DArray ids_new;
 
@@ -105,9 +107,14 @@ void reset(uint e)
 {
     gpu_surface sf = surfaces[elements[e].surface];
     vec3 emission = materials[sf.material].emission.rgb;
+    // The luminaires' direct light (solvers/incremental.c): on M what it
+    // reflects of it at the new pose, emitted as its own light is; on C the
+    // change from the old pose (a shadow M casts, or takes away), new
+    // light of C that the progressive iterations shoot on.
+    vec3 lum = pc.luminaires != 0u ? luminaires[e].rgb : vec3(0.0);
     if (sf.dynamic != 0u) {
-        B[e] = vec4(emission, 0.0);
-        Bu[e] = vec4(emission, 0.0);
+        B[e] = vec4(emission + lum, 0.0);
+        Bu[e] = vec4(emission + lum, 0.0);
     } else if ((elements[e].flags & GPU_ELEMENT_BURIED_M) != 0u) {
         // Under M or closed in by it at the new pose: no light reaches it,
         // so B is its emission, and all it held beyond that (shot by the
@@ -119,7 +126,8 @@ void reset(uint e)
         Bu[e] = vec4(emission - B[e].rgb, 0.0);
         B[e] = vec4(emission, 0.0);
     } else {
-        Bu[e] = vec4(0.0);
+        B[e].rgb += lum;
+        Bu[e] = vec4(lum, 0.0);
     }
 }
 

@@ -16,6 +16,10 @@
  *                                 to fix C's patches)
  *   ids_old/new  R32_UINT arrays  the chunk's ID hemicubes at the old and the
  *                                 new pose; shooter first + h in layers h*5..
+ *   luminaires[e] vec4            host-written per pose where the scene has
+ *                                 luminaires (push `luminaires`): rho x their
+ *                                 direct light at the new pose on M, its
+ *                                 change from the old pose on C (RESET)
  */
 #ifndef XRAD_SPIRV_INCREMENTAL_SHARED_H
 #define XRAD_SPIRV_INCREMENTAL_SHARED_H
@@ -31,7 +35,7 @@ struct incr_value {
 /* incremental_reconstruct.comp modes */
 #define INCR_MODE_CAPTURE 0u   /* per shooter in [first, first + count): values = means */
 #define INCR_MODE_POWER 1u     /* per surface: power = |luminance(sum B A)| on C, 0 on M */
-#define INCR_MODE_RESET 2u     /* per element: M: B = Bu = E; C: Bu = 0 */
+#define INCR_MODE_RESET 2u     /* per element: M: B = Bu = E + luminaires; C: Bu = luminaires */
 #define INCR_MODE_NEGATIVE 3u  /* per element of C: -shot of the chunk's M shooters, old pose */
 #define INCR_MODE_INCREMENT 4u /* per element: Algorithm 4.3 lines 13-18 for the chunk's C shooters */
 
@@ -45,9 +49,10 @@ struct incr_value {
 #define INCR_BINDING_POWER 7
 #define INCR_BINDING_OLD_SURFACES 8 /* the surfaces at the old pose */
 #define INCR_BINDING_B_BEFORE 9     /* B as INCREMENT found it */
-#define INCR_BINDING_IDS_OLD 10      /* images from here on */
-#define INCR_BINDING_IDS_NEW 11
-#define INCR_BINDING_COUNT 12
+#define INCR_BINDING_LUMINAIRES 10  /* vec4[element_count] (any buffer without luminaires) */
+#define INCR_BINDING_IDS_OLD 11     /* images from here on */
+#define INCR_BINDING_IDS_NEW 12
+#define INCR_BINDING_COUNT 13
 
 #define INCR_GROUP 64u
 
@@ -59,7 +64,7 @@ struct incr_push {
     uint hemicube_res;  /* pixels per face side of the ID hemicubes */
     uint neighbours;    /* 1: nearest-texel visibility check (thesis 4.3.3) */
     float subdivide_ratio; /* exact form factor where A_s / r^2 exceeds this (4.3.3) */
-    float pad0;
+    uint luminaires;       /* 1: RESET adds the luminaires buffer */
 };
 
 #endif

@@ -85,6 +85,7 @@ void cross_reconstruct_bind(struct xrad_context *ctx, cross_reconstruct_pass *p,
         [CROSS_RECONSTRUCT_BINDING_PEAK] = {b->peak, 0},
         [CROSS_RECONSTRUCT_BINDING_BACK_MIPS] = {b->back_mips, 0},
         [CROSS_RECONSTRUCT_BINDING_LIGHT_LAYERS] = {b->light_layers, 0},
+        [CROSS_RECONSTRUCT_BINDING_LUMINAIRES] = {b->luminaires, 0},
     };
     p->pair_state = b->pair_state;
     gpu_kernel_bind(ctx, &p->kernel, 0, r);
@@ -112,6 +113,7 @@ void cross_reconstruct_record(cross_reconstruct_pass *p, VkCommandBuffer cmd,
         .pair_capacity = q->pair_capacity,
         .cut = (float)q->cut,
         .back_levels = q->back_levels,
+        .luminaires = q->luminaires ? 1u : 0u,
     };
     if (q->phase == CROSS_RECONSTRUCT_C_ARGS)
         gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, 1, CROSS_RECONSTRUCT_GROUP);

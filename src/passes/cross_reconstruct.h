@@ -58,6 +58,10 @@ typedef struct cross_reconstruct_bindings {
     /* uint[light_count]: each light's hemicube in light_ids or
      * CROSS_LIGHT_UNREACHED (cross_shared.h); any buffer without lights. */
     const gpu_buffer *light_layers;
+    /* vec4[element_count] (solvers/luminaire_change.h): rho x the
+     * luminaires' light at the pose on M, its change from C's alone on C;
+     * any buffer where params.luminaires is off. */
+    const gpu_buffer *luminaires;
 } cross_reconstruct_bindings;
 
 typedef struct cross_reconstruct_params {
@@ -77,6 +81,7 @@ typedef struct cross_reconstruct_params {
     uint32_t pair_capacity; /* entries of the pair list */
     double cut;             /* pairs of C left out below this bound (xrad.h cross_cut) */
     uint32_t back_levels;   /* mip levels of the back hemicubes to read above 0 */
+    bool luminaires;        /* M_DIRECT and phase C add bindings.luminaires */
 } cross_reconstruct_params;
 
 /* full: the back mips and the contribution bound compiled in, as

@@ -68,6 +68,7 @@ void incremental_reconstruct_bind(struct xrad_context *ctx, incremental_reconstr
         [INCR_BINDING_POWER] = {b->power, 0},
         [INCR_BINDING_OLD_SURFACES] = {b->old_surfaces, 0},
         [INCR_BINDING_B_BEFORE] = {b->b_before, 0},
+        [INCR_BINDING_LUMINAIRES] = {b->luminaires, 0},
         [INCR_BINDING_IDS_OLD] = {NULL, b->ids_old},
         [INCR_BINDING_IDS_NEW] = {NULL, b->ids_new},
     };
@@ -88,6 +89,7 @@ void incremental_reconstruct_record(incremental_reconstruct_pass *p, VkCommandBu
         .hemicube_res = q->hemicube_res,
         .neighbours = q->exact_texel_only ? 0u : 1u,
         .subdivide_ratio = (float)q->subdivide_ratio,
+        .luminaires = q->luminaires ? 1u : 0u,
     };
     /* Shooting steps run one invocation per receiving element. */
     uint32_t invocations = mode == INCR_MODE_NEGATIVE || mode == INCR_MODE_INCREMENT

@@ -34,6 +34,10 @@ typedef struct incremental_reconstruct_bindings {
     /* vec4[element_count]: B as the INCREMENT step found it (what M's
      * elements take from C's elements near them, block by block). */
     const gpu_buffer *b_before;
+    /* vec4[element_count], host-written before each RESET where
+     * params.luminaires: rho x the luminaires' direct light at the new pose
+     * on M, its change from the old pose on C; else any buffer. */
+    const gpu_buffer *luminaires;
     /* R32_UINT 2D arrays, layer = hemicube * 5 + face, in
      * SHADER_READ_ONLY_OPTIMAL when the pass runs: the chunk's hemicubes
      * at the old pose and at the new pose. */
@@ -45,6 +49,7 @@ typedef struct incremental_reconstruct_params {
     uint32_t hemicube_res;  /* pixels per face side of the ID hemicubes */
     double subdivide_ratio; /* > 0: exact form factor where A_s / r^2 exceeds it */
     bool exact_texel_only;  /* no nearest-texel check (XRAD_ID_CHECK_EXACT) */
+    bool luminaires;        /* RESET adds bindings.luminaires */
 } incremental_reconstruct_params;
 
 xrad_status incremental_reconstruct_create(struct xrad_context *ctx,

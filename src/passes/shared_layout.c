@@ -86,7 +86,8 @@ LAYOUT(cross_reconstruct_push, grid_ff, 56);
 LAYOUT(cross_reconstruct_push, pair_capacity, 60);
 LAYOUT(cross_reconstruct_push, cut, 64);
 LAYOUT(cross_reconstruct_push, back_levels, 68);
-SIZE(cross_reconstruct_push, 72);
+LAYOUT(cross_reconstruct_push, luminaires, 72);
+SIZE(cross_reconstruct_push, 76);
 LAYOUT(back_mips_push, res, 0);
 LAYOUT(back_mips_push, levels, 4);
 LAYOUT(back_mips_push, count, 8);
@@ -160,7 +161,7 @@ LAYOUT(incr_push, element_count, 12);
 LAYOUT(incr_push, hemicube_res, 16);
 LAYOUT(incr_push, neighbours, 20);
 LAYOUT(incr_push, subdivide_ratio, 24);
-LAYOUT(incr_push, pad0, 28);
+LAYOUT(incr_push, luminaires, 28);
 SIZE(incr_push, 32);
 
 /* spirv/integrate_shared.h */

@@ -554,7 +554,7 @@ xrad_status xrad_reference_solve(const xrad_scene *scene, const xrad_reference_d
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "reference: out of memory for %u elements", n);
     }
     if (lum)
-        st = scene_luminaire_irradiance(scene, d.time, lum, err);
+        st = scene_luminaire_irradiance(scene, d.time, true, lum, err);
     if (!st && d.solver == XRAD_REFERENCE_SOLVER_GATHER) {
         st = ref_gather_solve(scene, &d, lum, b, &local, err);
     } else if (!st) {

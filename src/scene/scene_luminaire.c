@@ -120,13 +120,13 @@ vec3 scene_luminaire_intensity(const luminaire *l, vec3 dir)
     return v3_scale(l->intensity, x * x * (3 - 2 * x));
 }
 
-xrad_status scene_luminaire_irradiance(const xrad_scene *scene, double time, vec3 *out,
-                                       xrad_error *err)
+xrad_status scene_luminaire_irradiance(const xrad_scene *scene, double time, bool dynamic_too,
+                                       vec3 *out, xrad_error *err)
 {
     if (!scene->luminaire_count)
         return XRAD_OK;
     scene_rays rs;
-    xrad_status st = scene_rays_init(&rs, scene, time, true, err);
+    xrad_status st = scene_rays_init(&rs, scene, time, dynamic_too, err);
     if (st)
         return st;
     /* An element face to face with another surface takes no light (a
@@ -151,7 +151,8 @@ xrad_status scene_luminaire_irradiance(const xrad_scene *scene, double time, vec
         vec3 n = rs.normals[s];
         for (uint32_t k = 0; k < sf->nu * sf->nv; k++) {
             uint32_t e = sf->first_element + k;
-            if (buried[e])
+            /* 1: a static surface covers it, 2: a dynamic one. */
+            if (buried[e] == 1 || (buried[e] && dynamic_too))
                 continue;
             /* The sample point just off the surface: a luminaire on a
              * surface lights what its segment reaches. */
@@ -181,4 +182,14 @@ xrad_status scene_luminaire_irradiance(const xrad_scene *scene, double time, vec
     free(buried);
     scene_rays_free(&rs);
     return XRAD_OK;
+}
+
+xrad_status scene_luminaire_reflected(const xrad_scene *scene, double time, bool dynamic_too,
+                                      vec3 *out, xrad_error *err)
+{
+    memset(out, 0, (size_t)scene->element_count * sizeof(*out));
+    xrad_status st = scene_luminaire_irradiance(scene, time, dynamic_too, out, err);
+    for (uint32_t e = 0; !st && e < scene->element_count; e++)
+        out[e] = v3_mul(scene_element_albedo(scene, e), out[e]);
+    return st;
 }

@@ -25,9 +25,16 @@ vec3 scene_luminaire_intensity(const luminaire *l, vec3 dir);
  * irradiance at element e's sample point at scene time `time`: the sum
  * over the luminaires of I cos(theta) / d^2, where the segment from the
  * point to the luminaire crosses no surface; nothing at a buried element
- * (scene_find_buried). A scene without luminaires adds nothing. The
+ * (scene_find_buried). Without `dynamic_too` only the static objects'
+ * surfaces block and bury (the light of the static scene alone, which
+ * the cross method solves). A scene without luminaires adds nothing. The
  * element reflects rho_e times it. */
-xrad_status scene_luminaire_irradiance(const xrad_scene *scene, double time, vec3 *out,
-                                       xrad_error *err);
+xrad_status scene_luminaire_irradiance(const xrad_scene *scene, double time, bool dynamic_too,
+                                       vec3 *out, xrad_error *err);
+
+/* out[e] = rho_e x the irradiance above, for every element: the light an
+ * element reflects of the luminaires', what it starts a solve with. */
+xrad_status scene_luminaire_reflected(const xrad_scene *scene, double time, bool dynamic_too,
+                                      vec3 *out, xrad_error *err);
 
 #endif

@@ -20,13 +20,14 @@
  *   3. R_g(C, M): integrate the gather hemicubes; the elements of M take
  *      B = E + rho x (their surface's coarse samples, interpolated)
  *      (GATHERED), then rho x the direct light of C's lights through the
- *      lights' hemicubes (M_DIRECT), and T.total = area mean of B per patch
- *      (TOTAL).
+ *      lights' hemicubes and of the luminaires (M_DIRECT), and T.total =
+ *      area mean of B per patch (TOTAL).
  *   4. R_p(M, M) into B of M, and TOTAL again: what M shoots to C holds
  *      one bounce inside M.
  *   5. R_p(M, C) + R_x(C, C): every element of C gets the new pose's terms
  *      of eq. 3.3.1, with the direct light M hides taken from the lights'
- *      hemicubes, in place of the ones the last redistribution gave it,
+ *      hemicubes and the luminaires' change from C's own (luminaire_
+ *      change.h), in place of the ones the last redistribution gave it,
  *      which each element keeps (cross_reconstruct.comp): the old pose's
  *      terms are removed exactly as they were inserted.
  *   6. Progressive iterations (solvers/progressive.h), desc.frame_shots,
@@ -86,6 +87,7 @@
 #include "radiosity.h"
 #include "solvers/cross.h"
 #include "solvers/dynamic_patches.h"
+#include "solvers/luminaire_change.h"
 #include "solvers/progressive.h"
 #include "solvers/solver.h"
 
@@ -138,6 +140,7 @@ typedef struct cross {
     gpu_buffer reach_frames;  /* gpu_shooter[L], host-written per pose: the lights M can reach */
     gpu_buffer light_layers;  /* uint[L], host-written per pose (cross_shared.h) */
     struct gpu_shooter *light_host; /* [L]: the lights' frames */
+    luminaire_change lum;     /* the luminaires' light, base: C's alone (luminaire_change.h) */
     uint32_t reach_count;     /* lights drawn with M at the pose (light_reach) */
     bool reach_all;           /* every light drawn, M where it may be (tests) */
     uint32_t m_objects;       /* dynamic objects */
@@ -182,6 +185,7 @@ static void destroy(xrad_solver *s)
                              &c->order,   &c->patch_lists, &c->back_mips};
     for (size_t k = 0; k < sizeof(buffers) / sizeof(buffers[0]); k++)
         gpu_buffer_destroy(ctx, buffers[k]);
+    luminaire_change_destroy(ctx, &c->lum);
     dynamic_patches_free(&c->dp);
     dynamic_patches_free(&c->lights);
     free(c->light_host);
@@ -375,7 +379,9 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
         (st = integrate_create(ctx, d->hemicube_res, &c->integrate, err)) ||
         (st = atlas_scatter_create(ctx, &c->scatter, err)) ||
         (st = cross_update_create(ctx, &c->update, err)) ||
-        (st = cross_reconstruct_create(ctx, full, &c->reconstruct, err)))
+        (st = cross_reconstruct_create(ctx, full, &c->reconstruct, err)) ||
+        (st = luminaire_change_create(ctx, s->scene, &c->lum, err)) ||
+        (st = luminaire_change_set_base(&c->lum, s->scene, d->time, false, err)))
         return st;
     if (c->L && (st = create_lights(s, c, err)))
         return st;
@@ -426,7 +432,7 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                                listed ? &c->ranges : none, listed ? &c->pair_state : none,
                                listed ? &c->order : none, listed ? &c->patch_lists : none,
                                &c->peak, c->mips ? &c->back_mips : none,
-                               c->L ? &c->light_layers : none});
+                               c->L ? &c->light_layers : none, &c->lum.buffer});
     return XRAD_OK;
 }
 
@@ -613,6 +619,7 @@ static void record_phase(xrad_solver *s, cross *c, VkCommandBuffer cmd, uint32_t
                                  .pair_capacity = c->pair_capacity,
                                  .cut = s->desc.cross_cut,
                                  .back_levels = c->back_levels,
+                                 .luminaires = c->lum.active,
                              });
     gpu_timer_end(s->timer, cmd);
 }
@@ -631,7 +638,7 @@ static void record_m(xrad_solver *s, cross *c, VkCommandBuffer cmd)
 {
     uint32_t n = s->gs.element_count;
     record_gather(s, c, cmd);
-    if (c->reach_count)
+    if (c->reach_count || c->lum.active)
         record_reconstruct(s, c, cmd, CROSS_RECONSTRUCT_M_DIRECT, 0, n);
     full_barrier(cmd);
     cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, c->P, n);
@@ -760,8 +767,14 @@ static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *
                          c->quads.alloc.mapped);
     if (c->L)
         light_reach(s, c, t);
+    /* The luminaires' light at the pose: M's own, and on C what M takes
+     * from (or gives back to) the light of C alone that the progressive
+     * solve started from, as part of the source X (step 5). */
+    xrad_status st = luminaire_change_pose(&c->lum, s->scene, t, false, err);
+    if (st)
+        return st;
     bool measure = !c->scale_known;
-    xrad_status st = record_run(s, c, measure, err);
+    st = record_run(s, c, measure, err);
     if (st || measure) {
         c->scale_known = !st;
         return st;

@@ -205,7 +205,7 @@ static xrad_status direct_light(xrad_solver *s, gather *g, xrad_error *err)
     vec3 *lum = scene->luminaire_count ? calloc(n, sizeof(vec3)) : NULL;
     if (scene->luminaire_count && !lum)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "gather solver: out of host memory");
-    if (lum && (st = scene_luminaire_irradiance(scene, s->desc.time, lum, err))) {
+    if (lum && (st = scene_luminaire_irradiance(scene, s->desc.time, true, lum, err))) {
         free(lum);
         return st;
     }

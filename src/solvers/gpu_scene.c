@@ -315,7 +315,8 @@ xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, bool static
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of host memory for emission",
                          scene->path);
     /* The luminaires' direct light, reflected: each lit element starts as
-     * though it emitted rho times it (scene_luminaire.h). */
+     * though it emitted rho times it (scene_luminaire.h); static_only (the
+     * static scene alone, cross) with the static objects' shadows alone. */
     vec3 *lum = scene->luminaire_count ? calloc(n, sizeof(vec3)) : NULL;
     xrad_status s = scene->luminaire_count && !lum
                         ? xrad_fail(err, XRAD_ERROR_SYSTEM,
@@ -323,13 +324,10 @@ xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, bool static
                                     scene->path)
                         : XRAD_OK;
     if (!s && lum)
-        s = scene_luminaire_irradiance(scene, gs->time, lum, err);
+        s = scene_luminaire_reflected(scene, gs->time, !static_only, lum, err);
     for (uint32_t i = 0; !s && i < gs->element_count; i++) {
         const material *m = &scene->materials[scene->surfaces[scene->elements[i].surface].material];
-        vec3 b = m->emission;
-        if (lum)
-            b = v3_add(b, v3_mul(scene_element_albedo(scene, i), lum[i]));
-        e[i] = gpu_vec4(b, 0);
+        e[i] = gpu_vec4(lum ? v3_add(m->emission, lum[i]) : m->emission, 0);
     }
     free(lum);
     if (!s)

@@ -121,8 +121,11 @@ xrad_status gpu_scene_collect_pose(struct xrad_context *ctx, gpu_scene *gs, xrad
 xrad_status gpu_scene_fix_patches(struct xrad_context *ctx, gpu_scene *gs,
                                   const uint32_t *patches, xrad_error *err);
 
-/* B = Bu = E for every element; with static_only, Bu = 0 on the dynamic
- * surfaces (whose light the cross method shoots itself). */
+/* B = Bu = E for every element, E with the luminaires' light reflected
+ * (scene_luminaire_reflected); with static_only, Bu = 0 on the dynamic
+ * surfaces (whose light the cross method shoots itself) and only the
+ * static objects shadow the luminaires (the static scene alone, which
+ * cross solves: what M hides is its redistribution's). */
 xrad_status gpu_scene_reset(struct xrad_context *ctx, gpu_scene *gs, bool static_only,
                             xrad_error *err);
 

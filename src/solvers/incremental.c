@@ -29,7 +29,9 @@
  *     each fixed patch of M's shot radiosity and shoot it negated to the
  *     elements of C through an ID hemicube at the patch's old front frame
  *     (dynamic_patches_pose), with the old form factor.
- *  2. gpu_scene_pose(new time); M back to its emission (line 6).
+ *  2. gpu_scene_pose(new time); M back to its emission (line 6), with the
+ *     luminaires' direct light at the new pose, and C's elements take the
+ *     change in theirs as unshot radiosity (solvers/luminaire_change.h).
  *  3. For every surface q of C (lines 7-20), its fixed patches (line 8);
  *     the GPU captures each patch's shot, unshot and total area means,
  *     then clears C's unshot radiosity (line 9). Per patch s two ID
@@ -69,6 +71,7 @@
 #include "radiosity.h"
 #include "scene/scene.h"
 #include "solvers/dynamic_patches.h"
+#include "solvers/luminaire_change.h"
 #include "solvers/progressive.h"
 #include "solvers/solver.h"
 
@@ -100,6 +103,7 @@ typedef struct incremental {
     gpu_buffer values;        /* struct incr_value[m_count + c_capacity] */
     gpu_buffer power;         /* float[surface_count], host-visible: read once per solve */
     uint32_t *fixed;          /* [3 * surface_count]: gpu_scene_fix_patches' table */
+    luminaire_change lum;     /* the luminaires' light, base: the pose's in the solution */
 } incremental;
 
 static double now_ms(void)
@@ -123,6 +127,7 @@ static void destroy_state(xrad_solver *s, incremental *inc)
     gpu_buffer_destroy(s->ctx, &inc->prev_vertices);
     gpu_buffer_destroy(s->ctx, &inc->prev_surfaces);
     gpu_buffer_destroy(s->ctx, &inc->b_before);
+    luminaire_change_destroy(s->ctx, &inc->lum);
     free(inc->fixed);
     inc->fixed = NULL;
     dynamic_patches_free(&inc->dp);
@@ -208,7 +213,8 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
         (st = gpu_buffer_create(ctx, (VkDeviceSize)gs->surface_count * sizeof(float), storage,
                                 GPU_MEM_READBACK, GPU_MEM_REDISTRIBUTION, &inc->power, err)) ||
         (st = hemicube_create_desc(ctx, &ids, &inc->old_ids, err)) ||
-        (st = hemicube_create_desc(ctx, &ids, &inc->new_ids, err)))
+        (st = hemicube_create_desc(ctx, &ids, &inc->new_ids, err)) ||
+        (st = luminaire_change_create(ctx, scene, &inc->lum, err)))
         return st;
     /* Every dispatch of the reconstruct pass binds both hemicube images,
      * also where only the old pose's was drawn (NEGATIVE): an empty
@@ -233,6 +239,7 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
         .hemicube_res = s->desc.hemicube_res,
         .subdivide_ratio = s->desc.subdivide_ratio,
         .exact_texel_only = s->desc.id_check == XRAD_ID_CHECK_EXACT,
+        .luminaires = inc->lum.active,
     };
     if ((st = incremental_reconstruct_create(ctx, &params, &inc->pass, err)))
         return st;
@@ -240,7 +247,7 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
                                  &(incremental_reconstruct_bindings){
                                      &gs->surfaces, &gs->elements, &gs->materials, &gs->B,
                                      &gs->Bu, &inc->shooters, &inc->values, &inc->power,
-                                     &inc->prev_surfaces, &inc->b_before,
+                                     &inc->prev_surfaces, &inc->b_before, &inc->lum.buffer,
                                      hemicube_ids_view(inc->old_ids),
                                      hemicube_ids_view(inc->new_ids)});
     /* Per command buffer: two updates, and a hemicube and a reconstruct
@@ -413,6 +420,9 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
     }
     if (!st)
         st = progressive_run(s, inc->engine, true, 0, err);
+    /* The luminaires' light the restart started from (gpu_scene_reset). */
+    if (!st && inc->m_count)
+        st = luminaire_change_set_base(&inc->lum, s->scene, s->gs.time, true, err);
     if (!st && inc->m_count && !(st = read_power(s, inc, err)) &&
         !(st = fix_static_layout(s, inc, inc->power.alloc.mapped, err)))
         pose_m_frames(s, inc);
@@ -577,6 +587,10 @@ static xrad_status redistribute(xrad_solver *s, incremental *inc, double time, x
     if (st)
         return st;
     pose_m_frames(s, inc);
+    /* The luminaires' light at the new pose, which the reset of step 2
+     * gives M and adds to C as its change (incremental_reconstruct.comp). */
+    if ((st = luminaire_change_pose(&inc->lum, s->scene, time, true, err)))
+        return st;
     /* Steps 2-3. */
     return shoot(s, inc, INCR_MODE_INCREMENT, inc->m_count, inc->c_count, err);
 }

@@ -68,20 +68,6 @@ xrad_status xrad_solver_create(xrad_context *ctx, const xrad_scene *scene,
     xrad_status st = settle(&d, err);
     if (st)
         return st;
-    /* A luminaire's direct light enters as the lit elements' starting
-     * radiosity at the solve's pose (scene_luminaire.h): gather and
-     * progressive solve each pose afresh, but the redistributing methods
-     * would carry it along with a moving object, and its shadows with it. */
-    bool moving = false;
-    for (uint32_t o = 0; scene && o < scene->object_count; o++)
-        moving = moving || scene->objects[o].dynamic;
-    if (moving && scene->luminaire_count &&
-        (d.method == XRAD_METHOD_INCREMENTAL || d.method == XRAD_METHOD_CROSS))
-        return xrad_fail(err, XRAD_ERROR_INPUT,
-                         "%s: %u luminaire(s) and moving objects: %s does not follow a "
-                         "luminaire's direct light as objects move; use progressive or gather",
-                         scene->path, scene->luminaire_count,
-                         d.method == XRAD_METHOD_CROSS ? "cross" : "incremental");
     xrad_solver *s = calloc(1, sizeof(*s));
     if (!s)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "solver: out of memory");
