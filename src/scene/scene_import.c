@@ -205,6 +205,29 @@ static xrad_status import_texture(import_ctx *c, const struct aiMaterial *am,
     return XRAD_OK;
 }
 
+/* glTF's normalTexture.scale (glTF 2.0, "normalTextureInfo"): a texel's
+ * normal is normalize((2 rgb - 1) x (scale, scale, 1)). The texels are
+ * rewritten to encode that normal, so that the map reads as the scaled one
+ * wherever it is used (scene_texture_normal). */
+static void scale_normal_map(const struct aiMaterial *am, xrad_image_desc *normals)
+{
+    ai_real scale = 1;
+    if (aiGetMaterialFloatArray(am, "$tex.scale", aiTextureType_NORMALS, 0, &scale, NULL) !=
+            aiReturn_SUCCESS ||
+        scale == 1 || !isfinite(scale))
+        return;
+    float *t = (float *)normals->rgb;
+    for (size_t i = 0; i < (size_t)normals->width * normals->height; i++, t += 3) {
+        double x = (2.0 * t[0] - 1) * scale, y = (2.0 * t[1] - 1) * scale, z = 2.0 * t[2] - 1;
+        double len = sqrt(x * x + y * y + z * z);
+        if (!(len > 0))
+            continue; /* (0, 0, 0): the map reader's flat fallback (scene_texture_normal) */
+        t[0] = (float)(0.5 * (x / len + 1));
+        t[1] = (float)(0.5 * (y / len + 1));
+        t[2] = (float)(0.5 * (z / len + 1));
+    }
+}
+
 /* Builder index of assimp material m, added on first use. */
 static xrad_status import_material(import_ctx *c, uint32_t m, uint32_t *out)
 {
@@ -279,6 +302,8 @@ static xrad_status import_material(import_ctx *c, uint32_t m, uint32_t *out)
         free((void *)map.rgb);
         return st;
     }
+    if (normals.rgb)
+        scale_normal_map(am, &normals);
     if (map.rgb && normals.rgb && channel != normal_channel) {
         /* One coordinate set per material (xrad_mesh_desc.uvs). */
         if (c->map_failed++ == 0)

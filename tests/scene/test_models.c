@@ -169,9 +169,14 @@ static void gltf_box(void)
     xrad_scene_destroy(&sc);
 }
 
-/* A unit quad of two triangles, TEXCOORD_0 over the whole image, base
- * colour factor 0.5; `image` the glTF image's uri. */
-static void quad_gltf(char *out, size_t n, const char *image)
+#define PAINT_MATERIAL                                                                             \
+    "{\"name\": \"paint\", \"pbrMetallicRoughness\": {\"baseColorFactor\": [0.5, 0.5, 0.5, 1], " \
+    "\"baseColorTexture\": {\"index\": 0}, \"metallicFactor\": 0}}"
+
+/* A unit quad of two triangles in z = 0, TEXCOORD_0 over the whole image,
+ * its material `mat` (glTF JSON; texture 0 is the image); `image` the
+ * glTF image's uri. */
+static void quad_gltf_with(char *out, size_t n, const char *mat, const char *image)
 {
     snprintf(
         out, n,
@@ -179,8 +184,7 @@ static void quad_gltf(char *out, size_t n, const char *image)
         " \"nodes\": [{\"mesh\": 0, \"name\": \"quad\"}],\n"
         " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1},"
         " \"indices\": 2, \"material\": 0}]}],\n"
-        " \"materials\": [{\"name\": \"paint\", \"pbrMetallicRoughness\": {\"baseColorFactor\":"
-        " [0.5, 0.5, 0.5, 1], \"baseColorTexture\": {\"index\": 0}, \"metallicFactor\": 0}}],\n"
+        " \"materials\": [%s],\n"
         " \"textures\": [{\"source\": 0}], \"images\": [{\"uri\": \"%s\"}],\n"
         " \"buffers\": [{\"byteLength\": 94, \"uri\": \"data:application/octet-stream;base64,"
         "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAAAAAAAAAAAAgD8AAIA/AACAPwAA"
@@ -192,7 +196,13 @@ static void quad_gltf(char *out, size_t n, const char *image)
         " \"VEC3\", \"min\": [0, 0, 0], \"max\": [1, 1, 0]},"
         " {\"bufferView\": 1, \"componentType\": 5126, \"count\": 4, \"type\": \"VEC2\"},"
         " {\"bufferView\": 2, \"componentType\": 5123, \"count\": 6, \"type\": \"SCALAR\"}]}\n",
-        image);
+        mat, image);
+}
+
+/* The quad with base colour factor 0.5 x the image. */
+static void quad_gltf(char *out, size_t n, const char *image)
+{
+    quad_gltf_with(out, n, PAINT_MATERIAL, image);
 }
 
 /* The 2 x 1 PNG: pixels (50, 100, 200) and (220, 160, 40). */
@@ -639,11 +649,55 @@ static void seeds(void)
          (const char *const[]){"out of range", NULL});
 }
 
+/* The 1 x 1 PNG: pixel (230, 128, 180), a normal tilted 63 degrees. */
+static const char tilted_png[] = "iVBORw0KGgoAAAANSUhEUgAAAAEAAAABCAIAAACQd1PeAAAADElEQVR4nGN41rAFAA"
+                                 "RqAhsI539vAAAAAElFTkSuQmCC";
+
+/* glTF normalTexture.scale: the quad with the tilted pixel as its normal
+ * texture at scales 1, 0.5 and 0 (and none given: 1). Every element's
+ * normal makes the angle with the quad's normal that the glTF spec's
+ * normalize((2 rgb - 1) x (scale, scale, 1)) makes with z. */
+static void gltf_normal_scale(void)
+{
+    static const char *const scales[] = {"", ", \"scale\": 1", ", \"scale\": 0.5",
+                                         ", \"scale\": 0"};
+    static const double value[] = {1, 1, 0.5, 0};
+    for (int k = 0; k < 4; k++) {
+        char mat[256], uri[256];
+        static char gltf[4096];
+        snprintf(mat, sizeof(mat),
+                 "{\"name\": \"bumpy\", \"normalTexture\": {\"index\": 0%s}, "
+                 "\"pbrMetallicRoughness\": {\"baseColorFactor\": [0.5, 0.5, 0.5, 1], "
+                 "\"metallicFactor\": 0}}",
+                 scales[k]);
+        snprintf(uri, sizeof(uri), "data:image/png;base64,%s", tilted_png);
+        quad_gltf_with(gltf, sizeof(gltf), mat, uri);
+        xrad_scene *sc = NULL;
+        xrad_error err = {0};
+        xrad_status st = scene_load_model_memory("bumpy.gltf", gltf, strlen(gltf), &sc, &err);
+        CHECK(st == XRAD_OK && sc->element_normal, "bumpy.gltf, scale %g: %s", value[k],
+              st ? err.message : "no element normals");
+        double x = (2 * 230 / 255.0 - 1) * value[k], y = (2 * 128 / 255.0 - 1) * value[k],
+               z = 2 * 180 / 255.0 - 1;
+        double want = z / sqrt(x * x + y * y + z * z), worst = 0;
+        for (uint32_t e = 0; !st && sc->element_normal && e < sc->element_count; e++) {
+            vec3 n = sc->surfaces[sc->elements[e].surface].normal;
+            worst = fmax(worst, fabs(v3_dot(v3_norm(sc->element_normal[e]), n) - want));
+        }
+        fprintf(stderr, "bumpy.gltf, scale %g: cosine of the tilt %.4f, %.2e off\n", value[k],
+                want, worst);
+        CHECK(worst <= 1e-5, "bumpy.gltf, scale %g: an element's tilt cosine %.3g off %.4f",
+              value[k], worst, want);
+        xrad_scene_destroy(&sc);
+    }
+}
+
 int main(void)
 {
     obj_room();
     gltf_box();
     gltf_maps();
+    gltf_normal_scale();
     errors();
     broken_files();
     seeds();
