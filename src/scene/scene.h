@@ -278,6 +278,18 @@ vec3 scene_element_centroid(const surface *s, const element *e);
 xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
                               uint8_t *buried, uint32_t *count, xrad_error *err);
 
+/* Contact that closes nothing: pairs of surfaces face to face in one plane
+ * (scene_find_buried's rule, at the solvers' tolerance) where a ray from
+ * a covered point along either normal, past the two, meets no back face
+ * first: a slab of zero thickness (a table top of two quads back to back,
+ * one room's floor and another's ceiling in one plane) rather than a solid
+ * standing on a surface, whose volume lies behind one of them. The GPU
+ * methods take both as a contact and light neither there; the CPU
+ * reference lights both. *pairs (malloc'd, free it) receives 2 surface
+ * indices per pair, lower first; *count the pairs. */
+xrad_status scene_find_flat_slabs(const xrad_scene *scene, double time, uint32_t **pairs,
+                                  uint32_t *count, xrad_error *err);
+
 /* Enclosure: sets enclosed[e] (element_count bytes) for every element of
  * a static object that no light reaches: 25 rays spread over its
  * hemisphere (the normal and 4 rings of 6) find what it sees, and light

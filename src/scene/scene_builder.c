@@ -1146,6 +1146,29 @@ static void warn_unlit(xrad_scene_builder *b)
     free(used);
 }
 
+/* Surfaces back to back in one plane (scene_find_flat_slabs), at the
+ * scene's start: the GPU methods leave both dark where they meet. */
+static xrad_status warn_flat_slabs(xrad_scene_builder *b, xrad_error *err)
+{
+    const xrad_scene *sc = b->sc;
+    uint32_t *pairs = NULL, count = 0;
+    xrad_status st = scene_find_flat_slabs(sc, 0, &pairs, &count, err);
+    for (uint32_t k = 0; !st && k < count && k < 3; k++) {
+        const surface *s0 = &sc->surfaces[pairs[2 * k]], *s1 = &sc->surfaces[pairs[2 * k + 1]];
+        scene_builder_warn(b,
+                           "%s: surfaces '%s' (object '%s') and '%s' (object '%s') lie back to "
+                           "back in one plane with nothing closed behind either: a slab of zero "
+                           "thickness. The GPU methods take them as in contact (a box standing "
+                           "on a floor) and leave both dark where they meet; the CPU reference "
+                           "lights both. Give the slab a thickness%s",
+                           sc->path, s0->name, sc->objects[s0->object].name, s1->name,
+                           sc->objects[s1->object].name,
+                           k == 2 && count > 3 ? " (and more such pairs)" : "");
+    }
+    free(pairs);
+    return st;
+}
+
 /* Splits the elements of each normal-mapped surface 1 -> 4 while the
  * split elements' normals differ by more than SCENE_NORMAL_DETAIL_DEGREES
  * between neighbours, at most its material's normal_levels times (xrad.h
@@ -1214,7 +1237,8 @@ xrad_status xrad_scene_builder_finish(xrad_scene_builder *b, xrad_scene **out, x
     if ((b->uv && (st = refine_normal_mapped(b, err))) ||
         (b->adaptive.levels && (st = scene_adaptive_refine(b, &b->adaptive, &b->elements, err))) ||
         (st = scene_build_elements(sc, err)) ||
-        (b->uv && (st = scene_texture_apply(sc, b->maps, b->map_cap, b->uv, err)))) {
+        (b->uv && (st = scene_texture_apply(sc, b->maps, b->map_cap, b->uv, err))) ||
+        (st = warn_flat_slabs(b, err))) {
         b->failed = true;
         return st;
     }

@@ -86,27 +86,19 @@ static int swept_cmp(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
-                              uint8_t *buried, uint32_t *count, xrad_error *err)
+/* Calls visit(user, a, b) for every pair of surfaces whose world boxes,
+ * grown by tol, overlap: a cover lies in its receiver's plane over the
+ * receiver, so their boxes overlap. A sweep over x rather than every
+ * pair, which a mesh of 100,000 faces made 10^10 and 15 s before every
+ * solve. */
+static xrad_status contact_pairs(const xrad_scene *scene, const vec3 *corners, double tol,
+                                 void (*visit)(void *, uint32_t, uint32_t), void *user,
+                                 xrad_error *err)
 {
     uint32_t ns = scene->surface_count;
-    *count = 0;
-    for (uint32_t e = 0; e < scene->element_count; e++)
-        buried[e] = 0;
-    vec3 *corners, *normals;
-    xrad_status st = world_quads(scene, time, &corners, &normals, err);
-    if (st)
-        return st;
     swept *box = malloc((ns ? ns : 1) * sizeof *box);
-    if (!box) {
-        free(corners);
-        free(normals);
+    if (!box)
         return xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for contact", scene->path);
-    }
-    /* A cover lies in its receiver's plane over the receiver, so their
-     * boxes (grown by tol) overlap: sweep over x for such pairs rather
-     * than test every pair, which a mesh of 100,000 faces made 10^10 and
-     * 15 s before every solve. */
     for (uint32_t s = 0; s < ns; s++) {
         box[s].surface = s;
         for (int a = 0; a < 3; a++) {
@@ -127,15 +119,43 @@ xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
             if (box[j].lo[1] > box[i].hi[1] || box[i].lo[1] > box[j].hi[1] ||
                 box[j].lo[2] > box[i].hi[2] || box[i].lo[2] > box[j].hi[2])
                 continue;
-            uint32_t a = box[i].surface, b = box[j].surface;
-            cover_pair(scene, a, b, corners, normals, time, tol, buried, count);
-            cover_pair(scene, b, a, corners, normals, time, tol, buried, count);
+            visit(user, box[i].surface, box[j].surface);
         }
     }
     free(box);
+    return XRAD_OK;
+}
+
+typedef struct bury_job {
+    const xrad_scene *scene;
+    const vec3 *corners, *normals;
+    double time, tol;
+    uint8_t *buried;
+    uint32_t *count;
+} bury_job;
+
+static void bury_pair(void *user, uint32_t a, uint32_t b)
+{
+    bury_job *j = user;
+    cover_pair(j->scene, a, b, j->corners, j->normals, j->time, j->tol, j->buried, j->count);
+    cover_pair(j->scene, b, a, j->corners, j->normals, j->time, j->tol, j->buried, j->count);
+}
+
+xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol, uint8_t *buried,
+                              uint32_t *count, xrad_error *err)
+{
+    *count = 0;
+    for (uint32_t e = 0; e < scene->element_count; e++)
+        buried[e] = 0;
+    vec3 *corners, *normals;
+    xrad_status st = world_quads(scene, time, &corners, &normals, err);
+    if (st)
+        return st;
+    bury_job job = {scene, corners, normals, time, tol, buried, count};
+    st = contact_pairs(scene, corners, tol, bury_pair, &job, err);
     free(corners);
     free(normals);
-    return XRAD_OK;
+    return st;
 }
 
 /* Whether the line o + t d meets the quad c (normal n) at a t within
@@ -503,4 +523,111 @@ xrad_status scene_find_enclosed_dynamic(const xrad_scene *scene, double time,
     }
     free(within);
     return st;
+}
+
+typedef struct slab_job {
+    const xrad_scene *scene;
+    const vec3 *corners, *normals;
+    double time, tol;
+    uint32_t *pairs; /* 2 surfaces per pair */
+    vec3 *points;    /* per pair, a point of the first that the second covers */
+    uint32_t count, capacity;
+    bool failed; /* out of memory */
+} slab_job;
+
+/* Whether the ray from x along dir, past what lies within tol of x, meets
+ * the back face of a surface first: x lies inside something closed. */
+static bool meets_back(const scene_rays *rs, vec3 x, vec3 dir, double tol)
+{
+    bool back = false;
+    vec3 at;
+    return nearest_hit(rs, x, dir, tol, &back, &at) >= 0 && back;
+}
+
+/* Pairs face to face in one plane, each with a point that both cover. */
+static void slab_pair(void *user, uint32_t a, uint32_t b)
+{
+    slab_job *j = user;
+    const xrad_scene *scene = j->scene;
+    vec3 na = j->normals[a];
+    if (!(v3_dot(j->normals[b], na) < -0.999))
+        return;
+    for (int k = 0; k < 4; k++)
+        if (!(fabs(v3_dot(v3_sub(j->corners[4 * b + k], j->corners[4 * a]), na)) <= j->tol))
+            return;
+    /* An element centroid of a inside b, as cover_pair tests. */
+    const surface *sa = &scene->surfaces[a];
+    xform pose = scene_object_pose(scene, sa->object, j->time);
+    for (uint32_t k = 0; k < sa->nu * sa->nv; k++) {
+        const element *el = &scene->elements[sa->first_element + k];
+        vec3 x = xf_point(&pose, scene_element_centroid(sa, el));
+        if (!inside_quad(&j->corners[4 * b], j->normals[b], x, j->tol))
+            continue;
+        if (j->count == j->capacity) {
+            uint32_t cap = j->capacity ? 2 * j->capacity : 8;
+            uint32_t *p = realloc(j->pairs, 2 * (size_t)cap * sizeof *p);
+            vec3 *q = p ? realloc(j->points, cap * sizeof *q) : NULL;
+            if (p)
+                j->pairs = p;
+            if (q)
+                j->points = q;
+            if (!p || !q) {
+                j->failed = true;
+                return;
+            }
+            j->capacity = cap;
+        }
+        j->pairs[2 * j->count] = a;
+        j->pairs[2 * j->count + 1] = b;
+        j->points[j->count++] = x;
+        return;
+    }
+}
+
+xrad_status scene_find_flat_slabs(const xrad_scene *scene, double time, uint32_t **pairs,
+                                  uint32_t *count, xrad_error *err)
+{
+    *pairs = NULL;
+    *count = 0;
+    vec3 *corners, *normals, lo, hi;
+    xrad_status st = world_quads(scene, time, &corners, &normals, err);
+    if (st)
+        return st;
+    /* The solvers' contact tolerance (gpu_scene.h GPU_SCENE_CONTACT). */
+    scene_bounds(scene, time, &lo, &hi);
+    slab_job job = {.scene = scene,
+                    .corners = corners,
+                    .normals = normals,
+                    .time = time,
+                    .tol = 1e-4 * v3_len(v3_sub(hi, lo))};
+    st = contact_pairs(scene, corners, job.tol, slab_pair, &job, err);
+    free(corners);
+    free(normals);
+    if (!st && job.failed)
+        st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for contact", scene->path);
+    /* A solid standing on a surface closes a volume behind one of the two:
+     * rays (only where a pair was found: most scenes have none). */
+    scene_rays rs;
+    if (!st && job.count && !(st = scene_rays_init(&rs, scene, time, true, err))) {
+        uint32_t kept = 0;
+        for (uint32_t k = 0; k < job.count; k++) {
+            uint32_t a = job.pairs[2 * k], b = job.pairs[2 * k + 1];
+            vec3 x = job.points[k], na = rs.normals[a];
+            if (meets_back(&rs, x, na, job.tol) || meets_back(&rs, x, v3_scale(na, -1), job.tol))
+                continue;
+            job.pairs[2 * kept] = a < b ? a : b;
+            job.pairs[2 * kept + 1] = a < b ? b : a;
+            kept++;
+        }
+        job.count = kept;
+        scene_rays_free(&rs);
+    }
+    free(job.points);
+    if (st) {
+        free(job.pairs);
+        return st;
+    }
+    *pairs = job.pairs;
+    *count = job.count;
+    return XRAD_OK;
 }

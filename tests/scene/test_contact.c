@@ -9,8 +9,10 @@
  * A moving plinth without a bottom face, over [1.25, 1.75] x [1.25, 1.75]
  * at t = 0 and sliding -1 m along x in 1 s, encloses the floor centroids
  * strictly inside its footprint at each time (scene_find_enclosed_dynamic)
- * and none for the static test. */
+ * and none for the static test. Surfaces back to back in one plane with
+ * nothing closed behind (scene_find_flat_slabs): test_slabs. */
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "harness.h"
@@ -127,9 +129,72 @@ static void test_pocket(void)
     xrad_scene_destroy(&sc);
 }
 
+/* A floor, a closed box standing on it, a table top of zero thickness
+ * (two quads back to back at y = 0.7: "top" facing up, "under" facing
+ * down) and a slab 1 cm thick ("top2" over "under2"): of the pairs face
+ * to face in one plane (the box's bottom on the floor, the table top's
+ * two faces) only the table top closes nothing behind it. */
+static const char *slab_json =
+    "{\"unit\": \"m\", \"materials\": [{\"name\": \"m\", \"albedo\": [0.5, 0.5, 0.5],"
+    "  \"emission\": [1, 1, 1]}],"
+    " \"objects\": ["
+    "  {\"name\": \"floor\", \"surfaces\": [{\"name\": \"floor\", \"material\": \"m\","
+    "    \"quad\": {\"origin\": [0, 0, 0], \"u\": [0, 0, 2], \"v\": [2, 0, 0]}}]},"
+    "  {\"name\": \"box\", \"surfaces\": [{\"name\": \"box\", \"material\": \"m\","
+    "    \"box\": {\"origin\": [1.2, 0, 0.2], \"u\": [0.5, 0, 0], \"v\": [0, 0.5, 0],"
+    "    \"w\": [0, 0, 0.5]}}]},"
+    "  {\"name\": \"table\", \"surfaces\": ["
+    "   {\"name\": \"top\", \"material\": \"m\", \"quad\": {\"origin\": [0.2, 0.7, 0.2],"
+    "    \"u\": [0, 0, 0.6], \"v\": [0.6, 0, 0]}},"
+    "   {\"name\": \"under\", \"material\": \"m\", \"quad\": {\"origin\": [0.2, 0.7, 0.2],"
+    "    \"u\": [0.6, 0, 0], \"v\": [0, 0, 0.6]}},"
+    "   {\"name\": \"top2\", \"material\": \"m\", \"quad\": {\"origin\": [0.2, 0.71, 1.2],"
+    "    \"u\": [0, 0, 0.6], \"v\": [0.6, 0, 0]}},"
+    "   {\"name\": \"under2\", \"material\": \"m\", \"quad\": {\"origin\": [0.2, 0.7, 1.2],"
+    "    \"u\": [0.6, 0, 0], \"v\": [0, 0, 0.6]}}]}]}";
+
+static void test_slabs(void)
+{
+    xrad_scene *sc = NULL;
+    xrad_error err = {0};
+    xrad_status st = xrad_scene_parse(slab_json, strlen(slab_json), "slabs.json", &sc, &err);
+    CHECK(st == XRAD_OK, "slabs.json: %s", err.message);
+    if (st)
+        return;
+    uint32_t *pairs = NULL, count = 0;
+    st = scene_find_flat_slabs(sc, 0, &pairs, &count, &err);
+    CHECK(st == XRAD_OK && count == 1, "slabs.json: %u zero-thickness pairs, want 1 (%s)", count,
+          st ? err.message : "");
+    if (!st && count == 1) {
+        const char *a = sc->surfaces[pairs[0]].name, *b = sc->surfaces[pairs[1]].name;
+        CHECK((!strcmp(a, "top") && !strcmp(b, "under")) ||
+                  (!strcmp(a, "under") && !strcmp(b, "top")),
+              "slabs.json: the pair found is '%s' and '%s', not the table top's faces", a, b);
+    }
+    /* The loader says so, naming both and the file. */
+    uint32_t said = 0;
+    for (uint32_t w = 0; w < xrad_scene_warning_count(sc); w++) {
+        const char *text = xrad_scene_warning(sc, w);
+        said += strstr(text, "slabs.json") && strstr(text, "'top'") && strstr(text, "'under'") &&
+                strstr(text, "zero thickness");
+    }
+    CHECK(said == 1, "slabs.json: %u warnings name the table top's faces, want 1", said);
+    free(pairs);
+    xrad_scene_destroy(&sc);
+    /* The box on the floor and the bottomless plinth: none. */
+    st = xrad_scene_parse(json, strlen(json), "contact.json", &sc, &err);
+    if (!st)
+        st = scene_find_flat_slabs(sc, 0, &pairs, &count, &err);
+    CHECK(st == XRAD_OK && count == 0, "contact.json: %u zero-thickness pairs, want 0 (%s)", count,
+          st ? err.message : "");
+    free(pairs);
+    xrad_scene_destroy(&sc);
+}
+
 int main(void)
 {
     test_pocket();
+    test_slabs();
     xrad_scene *sc = NULL;
     xrad_error err = {0};
     xrad_status st = xrad_scene_parse(json, strlen(json), "contact.json", &sc, &err);
