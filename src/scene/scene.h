@@ -278,10 +278,11 @@ vec3 scene_element_centroid(const surface *s, const element *e);
 xrad_status scene_find_buried(const xrad_scene *scene, double time, double tol,
                               uint8_t *buried, uint32_t *count, xrad_error *err);
 
-/* Contact that closes nothing: pairs of surfaces face to face in one plane
- * (scene_find_buried's rule, at the solvers' tolerance) where a ray from
- * a covered point along either normal, past the two, meets no back face
- * first: a slab of zero thickness (a table top of two quads back to back,
+/* Contact that closes nothing: pairs of quads (not mesh faces, whose
+ * winding and cracks rays cannot judge) face to face in one plane
+ * (scene_find_buried's rule, at the solvers' tolerance) where neither
+ * side of a covered point is closed (most of 25 rays about either normal
+ * meet something other than a back face first): a slab of zero thickness (a table top of two quads back to back,
  * one room's floor and another's ceiling in one plane) rather than a solid
  * standing on a surface, whose volume lies behind one of them. The GPU
  * methods take both as a contact and light neither there; the CPU

@@ -535,13 +535,17 @@ typedef struct slab_job {
     bool failed; /* out of memory */
 } slab_job;
 
-/* Whether the ray from x along dir, past what lies within tol of x, meets
- * the back face of a surface first: x lies inside something closed. */
-static bool meets_back(const scene_rays *rs, vec3 x, vec3 dir, double tol)
+/* Whether the side of x that n faces is closed: most of x's RAY_COUNT
+ * rays about n (trace_rays) meet a back face first. One ray along n
+ * decided wrongly on a mesh, slipping out between two faces of the closed
+ * model it started in (wuson-room's sheets inside the Wuson). */
+static bool closed_side(const scene_rays *rs, vec3 x, vec3 n)
 {
-    bool back = false;
-    vec3 at;
-    return nearest_hit(rs, x, dir, tol, &back, &at) >= 0 && back;
+    uint32_t out[RAY_COUNT], back = 0;
+    trace_rays(rs, x, n, out);
+    for (int k = 0; k < RAY_COUNT; k++)
+        back += out[k] == RAY_BACK;
+    return 2 * back > RAY_COUNT;
 }
 
 /* Pairs face to face in one plane, each with a point that both cover. */
@@ -550,7 +554,12 @@ static void slab_pair(void *user, uint32_t a, uint32_t b)
     slab_job *j = user;
     const xrad_scene *scene = j->scene;
     vec3 na = j->normals[a];
-    if (!(v3_dot(j->normals[b], na) < -0.999))
+    /* Quads only: a model's faces can be wound either way and leave cracks,
+     * so rays cannot tell its inside (wuson-room's Wuson: faces of sheets
+     * inside the model, dark in the CPU reference too, and its feet on the
+     * floor came out as slabs). */
+    if (scene->surfaces[a].mesh || scene->surfaces[b].mesh ||
+        !(v3_dot(j->normals[b], na) < -0.999))
         return;
     for (int k = 0; k < 4; k++)
         if (!(fabs(v3_dot(v3_sub(j->corners[4 * b + k], j->corners[4 * a]), na)) <= j->tol))
@@ -606,14 +615,15 @@ xrad_status scene_find_flat_slabs(const xrad_scene *scene, double time, uint32_t
     if (!st && job.failed)
         st = xrad_fail(err, XRAD_ERROR_SYSTEM, "%s: out of memory for contact", scene->path);
     /* A solid standing on a surface closes a volume behind one of the two:
-     * rays (only where a pair was found: most scenes have none). */
+     * rays to either side (only where a pair was found: most scenes have
+     * none). */
     scene_rays rs;
     if (!st && job.count && !(st = scene_rays_init(&rs, scene, time, true, err))) {
         uint32_t kept = 0;
         for (uint32_t k = 0; k < job.count; k++) {
             uint32_t a = job.pairs[2 * k], b = job.pairs[2 * k + 1];
             vec3 x = job.points[k], na = rs.normals[a];
-            if (meets_back(&rs, x, na, job.tol) || meets_back(&rs, x, v3_scale(na, -1), job.tol))
+            if (closed_side(&rs, x, na) || closed_side(&rs, x, v3_scale(na, -1)))
                 continue;
             job.pairs[2 * kept] = a < b ? a : b;
             job.pairs[2 * kept + 1] = a < b ? b : a;
