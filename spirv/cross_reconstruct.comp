@@ -489,7 +489,7 @@ void receiver(uint e, out vec3 x, out vec3 ne)
 {
     gpu_surface sr = surfaces[elements[e].surface];
     uint ke = e - sr.first_element;
-    x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+    x = cell_centroid(sr, ke % sr.nu, ke / sr.nu);
     ne = elements[e].normal.xyz;
 }
 
@@ -614,7 +614,7 @@ void main()
         return;
     }
     uint ke = e - sr.first_element;
-    vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+    vec3 x = cell_centroid(sr, ke % sr.nu, ke / sr.nu);
     vec3 ne = elements[e].normal.xyz;
     uint id = se + 1u;
     vec3 rho = elements[e].albedo.rgb;

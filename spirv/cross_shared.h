@@ -20,9 +20,8 @@
  *   inserted[e]      vec4          what the last redistribution added to B of
  *                                  static element e: R_p(M, C) + R_x(C, C)
  *   gathered[p]      vec4          R_g(C, M) sums (integrate pass output); then
- *                                  [P + p], [2P + p] the x and y parts of the
- *                                  irradiance vector, [3P + p] the horizon
- *                                  ring's mean radiosity (integrate_shared.h)
+ *                                  [P + p] the horizon ring's mean radiosity
+ *                                  (integrate_shared.h)
  *   surface_patch[s] uint          the patch (ci, cj) = (0, 0) of dynamic surface s (a
  *                                  mesh face: its group); after surface_count of them,
  *                                  the groups' member surfaces
@@ -84,7 +83,11 @@ struct cross_quad {
 #define CROSS_UPDATE_BINDING_PEAK 10
 /* gpu_shooter[3][patch_count]: the frames (GATHERED: a group's gather frame) */
 #define CROSS_UPDATE_BINDING_FRAMES 11
-#define CROSS_UPDATE_BINDING_COUNT 12
+/* The gather hemicubes (texture2DArray, patch p in layers 5p..5p+4; RGB: B
+ * x scale, A: distance / diameter, hemicube_radiosity.frag): GATHERED
+ * reprojects a group's hemicube to each of its faces. */
+#define CROSS_UPDATE_BINDING_GATHER_HEMICUBES 12
+#define CROSS_UPDATE_BINDING_COUNT 13
 
 #define CROSS_UPDATE_GROUP 64u
 
@@ -93,6 +96,12 @@ struct cross_update_push {
     uint count;        /* invocations: patches or elements */
     uint element_count;
     uint patch_count;
+    /* GATHERED: the gather hemicubes' resolution, the scale they hold B
+     * by, and the distance their alpha is a fraction of (m) */
+    uint res;
+    float inv_scale;
+    float diameter;
+    uint pad;
 };
 
 #define CROSS_RECONSTRUCT_BINDING_SURFACES 0

@@ -20,8 +20,11 @@
 // The shot radiosity B - Bu of M before the reset (line 4) is not needed:
 // what M gave C last time is kept per element (cross_reconstruct.comp).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_samplerless_texture_functions : require
 #include "radiosity.h"
 #include "cross_shared.h"
+#include "hemicube.glsl"
+#include "cell.glsl"
 
 layout(local_size_x = CROSS_UPDATE_GROUP) in;
 
@@ -39,6 +42,7 @@ layout(std430, binding = CROSS_UPDATE_BINDING_OUT) writeonly buffer Out { vec4 o
 layout(std430, binding = CROSS_UPDATE_BINDING_SURFACE_PATCH) readonly buffer SurfacePatch { uint surface_patch[]; };
 layout(std430, binding = CROSS_UPDATE_BINDING_PEAK) buffer Peak { uint peak; };
 layout(std430, binding = CROSS_UPDATE_BINDING_FRAMES) readonly buffer Frames { gpu_shooter frames[]; };
+layout(binding = CROSS_UPDATE_BINDING_GATHER_HEMICUBES) uniform texture2DArray gather_hemicubes;
 
 // Parameter of coarse sample c of n along a side: the centroid of its cell
 // (the part of the side within half a spacing, clipped), where the gather
@@ -64,6 +68,86 @@ float bracket(float s, uint n, out uint c0)
         c0++;
     float a = knot(c0, n), b = knot(c0 + 1u, n);
     return clamp((s - a) / (b - a), 0.0, 1.0);
+}
+
+// The world point a gather hemicube texel shows (its alpha the distance
+// from the hemicube's origin o over the scene diameter), or alpha <= 0
+// where nothing was drawn.
+vec3 texel_point(uint layer, uint face, ivec2 t, uint res, vec3 o, mat3 frame, out float alpha)
+{
+    alpha = texelFetch(gather_hemicubes, ivec3(t, int(layer + face)), 0).a;
+    vec3 d = hemicube_texel_direction(face, uvec2(t), res);
+    return o + (alpha * pc.diameter * inversesqrt(dot(d, d))) * (frame * d);
+}
+
+// The gathered sum sum_j F_ij B_j of a group's face at point x with normal
+// n, from its group's gather hemicube (patch `first`, frame f): each texel
+// the hemicube saw is a piece of surface at the distance its alpha holds,
+// facing along the normal its neighbours' points give (the nearer of the
+// two on each axis, so that a depth edge does not tilt it). From x that
+// piece spans the texel's solid angle from o times (dist / |q - x|)^2 x
+// cos' / cos (its cosines towards x and o), in the direction from x to it,
+// by n's cosine. A face lies up to half its group's size from o; reading
+// the hemicube at o (the irradiance vector, integrate.comp) gave the
+// 320-face ball's lowest faces, 30 cm above the ball's own shadow, up to
+// 6% off the CPU reference (one hemicube a face: 0.7%;
+// tests/solvers/test_mesh_ball.c). Without cos' / cos the floor's
+// foreshortening, 30 cm away, was 10% off for a point 3 cm further from
+// it. What lies below o's horizon and above the face's (a face tilted by
+// t from the group's axis sees (1 - cos t) / 2 of its cosine-weighted
+// hemisphere there: the view factor of a tilted plane to the half-space
+// above another) takes the horizon ring's mean radiosity.
+vec3 reprojected(uint first, gpu_shooter f, vec3 x, vec3 n)
+{
+    vec3 z = f.normal.xyz, tx = f.tangent.xyz, o = f.pos_area.xyz;
+    mat3 frame = mat3(tx, cross(z, tx), z);
+    uint res = pc.res, weighted = 3u * res * res, layer = first * 5u;
+    float texel_area = 4.0 / float(res * res);
+    vec3 sum = vec3(0.0);
+    for (uint i = 0u; i < weighted; i++) {
+        uvec2 tu;
+        uint face = hemicube_weighted_texel(i, res, tu);
+        vec4 v = texelFetch(gather_hemicubes, ivec3(ivec2(tu), int(layer + face)), 0);
+        if (v.a <= 0.0 || v.r + v.g + v.b <= 0.0)
+            continue; // nothing drawn, or black (M, back sides)
+        ivec2 t = ivec2(tu);
+        vec3 d = hemicube_texel_direction(face, tu, res);
+        float r2 = dot(d, d), dist = v.a * pc.diameter;
+        vec3 q = o + (dist * inversesqrt(r2)) * (frame * d);
+        vec3 w = q - x;
+        float w2 = dot(w, w), c = dot(n, w);
+        if (c <= 0.0 || w2 <= 0.0)
+            continue;
+        // The piece's normal from its neighbours' points.
+        vec3 edge[2];
+        for (int a = 0; a < 2; a++) {
+            ivec2 step = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
+            ivec2 tp = t + step, tm = t - step;
+            float ap = -1.0, am = -1.0;
+            vec3 qp = q, qm = q;
+            if (tp[a] < int(res))
+                qp = texel_point(layer, face, tp, res, o, frame, ap);
+            if (tm[a] >= 0)
+                qm = texel_point(layer, face, tm, res, o, frame, am);
+            float ep = ap > 0.0 ? abs(ap - v.a) : 1e30, em = am > 0.0 ? abs(am - v.a) : 1e30;
+            edge[a] = ep <= em ? qp - q : q - qm;
+        }
+        vec3 nq = cross(edge[0], edge[1]);
+        float nn = dot(nq, nq);
+        float ratio = 1.0;
+        if (nn > 0.0) {
+            nq *= inversesqrt(nn);
+            float co = abs(dot(nq, o - q)) / dist, cx = abs(dot(nq, x - q)) * inversesqrt(w2);
+            // the same side of the piece seen from both, and not grazing from o
+            ratio = dot(nq, o - q) * dot(nq, x - q) > 0.0 ? min(cx / max(co, 1e-6), 4.0) : 0.0;
+        }
+        // solid angle from o: texel_area / |d|^3; from x: times dist^2 / w2 x cos' / cos
+        sum += v.rgb * (c * inversesqrt(w2) * texel_area * dist * dist * ratio /
+                        (r2 * sqrt(r2) * w2));
+    }
+    float ct = clamp(dot(n, z), -1.0, 1.0);
+    vec3 ring = gathered[pc.patch_count + first].rgb;
+    return sum * (pc.inv_scale / 3.14159265358979) + 0.5 * (1.0 - ct) * ring;
 }
 
 // Area mean of B over the patch's elements: a block's, or every element
@@ -131,31 +215,20 @@ void main()
     // whose values were gathered at their cells' centroids (knot()):
     // linear between those points, constant beyond the outer ones.
     uint first = surface_patch[elements[k].surface];
-    // A group's faces take its gather hemicube's irradiance vector dotted
-    // with their own normal in its frame: the gathered sum for that
-    // normal, to first order. Its faces' normals spread over a cone of up
-    // to about 55 degrees (solvers/dynamic_patches.c); with one value for
-    // all, a 80-face ball's side faces were 0.89 of the CPU reference's.
-    // The vector takes the light of the hemicube's hemisphere by n's cosine,
-    // which a face tilted by t from the hemicube's axis does not see quite
-    // so: it misses the sliver of that hemisphere behind its own horizon
-    // (which the dot product subtracts) and sees a sliver below the
-    // hemicube's horizon (which no texel shows). Both lie along the horizon
-    // and each weighs (1 - cos t) / 2 under light that is even there, so
-    // (1 - cos t) x the horizon ring's mean radiosity puts them in: exact
-    // under uniform light, where the vector alone gives cos t of it; the
-    // 320-face ball's ring of faces looking down at 25 degrees from their
-    // group's axis came out 0.92-0.95 of the CPU reference's without.
+    // A group's faces each read its gather hemicube from their own receiver
+    // point and normal (reprojected() above; the cell's centroid, where the
+    // CPU reference and the shooting passes take an element's value). With
+    // one value for all, a 80-face ball's side faces were 0.89 of the CPU
+    // reference's; with the hemicube's irradiance vector dotted with each
+    // face's normal and the horizon ring, 0.97-1.03, and the 320-face
+    // ball's lowest faces 0.945-1.058 (parallax).
     if (patches[first].member_count != 0u) {
         gpu_shooter f = frames[CROSS_FRAMES_GATHER * pc.patch_count + first];
         // n: the element's receiver normal, its face's or its normal
         // map's (xrad.h normal_map), posed.
-        vec3 n = elements[k].normal.xyz, z = f.normal.xyz, x = f.tangent.xyz;
-        float ct = dot(n, z);
-        vec3 g = dot(n, x) * gathered[pc.patch_count + first].rgb +
-                 dot(n, cross(z, x)) * gathered[2u * pc.patch_count + first].rgb +
-                 ct * gathered[first].rgb +
-                 (1.0 - ct) * gathered[3u * pc.patch_count + first].rgb;
+        vec3 n = elements[k].normal.xyz;
+        uint ke = k - sf.first_element;
+        vec3 g = reprojected(first, f, cell_centroid(sf, ke % sf.nu, ke / sf.nu), n);
         B[k] = vec4(m.emission.rgb + elements[k].albedo.rgb * max(g, vec3(0.0)), 0.0);
         Bu[k] = vec4(0.0);
         return;

@@ -49,10 +49,10 @@ bool seen(vec3 p, vec3 x)
 float block(gpu_surface sf, float s0, float s1, float t0, float t1, vec3 x, vec3 ne)
 {
     vec3 q[4];
-    q[0] = shooting_bilinear(sf, s0, t0);
-    q[1] = shooting_bilinear(sf, s1, t0);
-    q[2] = shooting_bilinear(sf, s1, t1);
-    q[3] = shooting_bilinear(sf, s0, t1);
+    q[0] = cell_bilinear(sf, s0, t0);
+    q[1] = cell_bilinear(sf, s1, t0);
+    q[2] = cell_bilinear(sf, s1, t1);
+    q[3] = cell_bilinear(sf, s0, t1);
     float ff = shooting_point_to_quad(x, ne, q);
     uint none[9];
     return ff > 0.0 && !shooting_front_hidden(q, x, ne, none, SHOOTING_EVERY_SURFACE) ? ff : 0.0;
@@ -88,12 +88,12 @@ void main()
         // there was 17% dark). The corners' visibility by rows, bits.
         uint below = 0u;
         for (uint i = 0u; i <= n; i++)
-            below |= seen(shooting_bilinear(sf, float(i) * h, 0.0), x) ? 1u << i : 0u;
+            below |= seen(cell_bilinear(sf, float(i) * h, 0.0), x) ? 1u << i : 0u;
         float ff = 0.0;
         for (uint bj = 0u; bj < n; bj++) {
             uint above = 0u;
             for (uint i = 0u; i <= n; i++)
-                above |= seen(shooting_bilinear(sf, float(i) * h, float(bj + 1u) * h), x) ? 1u << i
+                above |= seen(cell_bilinear(sf, float(i) * h, float(bj + 1u) * h), x) ? 1u << i
                                                                                      : 0u;
             for (uint bi = 0u; bi < n; bi++) {
                 float s0 = float(bi) * h, t0 = float(bj) * h;

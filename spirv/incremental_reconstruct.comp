@@ -195,7 +195,7 @@ void receive(uint e)
     // give back what it took while uncovered, not keep it.
     vec3 ne = elements[e].normal.xyz;
     uint ke = e - sr.first_element;
-    vec3 x = shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+    vec3 x = cell_centroid(sr, ke % sr.nu, ke / sr.nu);
     bool near_texels = pc.neighbours != 0u;
     vec3 gathered = vec3(0.0);
     for (uint h = 0u; h < pc.count; h++) {

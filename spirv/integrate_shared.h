@@ -18,14 +18,11 @@ struct integrate_push {
     uint out_first; /* sum of hemicube h goes to out[out_first + h] */
     uint count;     /* hemicubes */
     float inv_scale; /* the hemicubes hold B x scale: sums are multiplied by 1 / scale */
-    /* Non-zero: also the sums weighted by the texel direction's d.x / d.z
-     * and d.y / d.z in the hemicube's frame (the x and y parts of the
-     * irradiance vector, whose z part is the sum) to out[moments_first + h]
-     * and out[moments_first + count + h]; and the horizon ring's mean
-     * radiosity (solid-angle weighted, directions within about 15 degrees
-     * above the horizon) to out[moments_first + 2 count + h]. */
-    uint moments;
-    uint moments_first;
+    /* Non-zero: also the horizon ring's mean radiosity (solid-angle
+     * weighted, directions within about 15 degrees above the horizon) to
+     * out[ring_first + h]. */
+    uint ring;
+    uint ring_first;
     uint pad0, pad1;
 };
 

@@ -142,7 +142,7 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
                     lum += el.pos_area.w * dot(shot[sh.shot_first + k].rgb, LUMA);
                     area += el.pos_area.w;
                     if (CONSERVE_FAR)
-                        middle += el.pos_area.w * shooting_cell_centroid(sf, i, j);
+                        middle += el.pos_area.w * cell_centroid(sf, i, j);
                 }
             }
             // A block partly buried (the floor under a box standing on it)
@@ -268,7 +268,7 @@ vec3 receiver_point(uint e)
 {
     gpu_surface sr = surfaces[elements[e].surface];
     uint ke = e - sr.first_element;
-    return shooting_cell_centroid(sr, ke % sr.nu, ke / sr.nu);
+    return cell_centroid(sr, ke % sr.nu, ke / sr.nu);
 }
 
 // The form factor from receiver e (point x, normal ne, surface se) to

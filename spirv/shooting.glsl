@@ -7,6 +7,8 @@
 #ifndef XRAD_SHOOTING_GLSL
 #define XRAD_SHOOTING_GLSL
 
+#include "cell.glsl"
+
 // The occluder a hemicube texel names (surface index i) as the hemicube
 // was drawn: `old` asks for the pose before the current one, which only a
 // pass that keeps it (incremental_reconstruct.comp) defines before
@@ -232,22 +234,6 @@ bool shooting_faces(vec3 d, float cs, float ce, bool near)
     return cs > 1e-4 * length(d) && (near || ce > 0.0);
 }
 
-vec3 shooting_bilinear(gpu_surface sf, float s, float t)
-{
-    return mix(mix(sf.corner[0].xyz, sf.corner[1].xyz, s),
-               mix(sf.corner[3].xyz, sf.corner[2].xyz, s), t);
-}
-
-// The parameter interval covered by samples [i0, i1] of n along one side
-// (src/scene/scene.h), as in select.comp.
-vec2 shooting_param_range(uint i0, uint i1, uint n)
-{
-    if (n < 2u)
-        return vec2(0.0, 1.0); // a tiny triangle's one element (scene.h)
-    float h = 1.0 / float(n - 1u);
-    return vec2(max(0.0, (float(i0) - 0.5) * h), min(1.0, (float(i1) + 0.5) * h));
-}
-
 // Form factor from the point x (unit normal n) to the convex polygon q[0..3]
 // clipped to the half-space in front of x (Lambert: (1/2pi) sum_k gamma_k
 // n . (R_k x R_k+1) / |R_k x R_k+1|, ground-truth.md).
@@ -273,15 +259,6 @@ float shooting_point_to_quad(vec3 x, vec3 n, vec3 q[4])
     return abs(sum) / (2.0 * SHOOTING_PI);
 }
 
-// The receiver point of element (i, j) of surface sf: the midpoint of its
-// cell, and a tiny triangle's centroid for its one element
-// (scene_cell_centre).
-vec3 shooting_cell_centroid(gpu_surface sf, uint i, uint j)
-{
-    vec2 rs = shooting_param_range(i, i, sf.nu), rt = shooting_param_range(j, j, sf.nv);
-    bool lone = sf.nv < 2u && (sf.mesh & GPU_SURFACE_TRIANGLE) != 0u;
-    return shooting_bilinear(sf, 0.5 * (rs.x + rs.y), lone ? 1.0 / 3.0 : 0.5 * (rt.x + rt.y));
-}
 
 // The form factor from the receiver point x (normal ne) to the patch sh of
 // surface sf, for d = x - centre, cs = cos at the shooter and ce = cos at
@@ -303,12 +280,12 @@ float shooting_disk(vec3 d, float cs, float ce, float area)
 // The corners of elements [i0, i1] x [j0, j1] of sf.
 void shooting_cell_quad(gpu_surface sf, uint i0, uint i1, uint j0, uint j1, out vec3 q[4])
 {
-    vec2 rs = shooting_param_range(i0, i1, sf.nu);
-    vec2 rt = shooting_param_range(j0, j1, sf.nv);
-    q[0] = shooting_bilinear(sf, rs.x, rt.x);
-    q[1] = shooting_bilinear(sf, rs.y, rt.x);
-    q[2] = shooting_bilinear(sf, rs.y, rt.y);
-    q[3] = shooting_bilinear(sf, rs.x, rt.y);
+    vec2 rs = cell_param_range(i0, i1, sf.nu);
+    vec2 rt = cell_param_range(j0, j1, sf.nv);
+    q[0] = cell_bilinear(sf, rs.x, rt.x);
+    q[1] = cell_bilinear(sf, rs.y, rt.x);
+    q[2] = cell_bilinear(sf, rs.y, rt.y);
+    q[3] = cell_bilinear(sf, rs.x, rt.y);
 }
 
 // The exact form factor from x to elements [i0, i1] x [j0, j1] of sf.

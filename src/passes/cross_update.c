@@ -21,6 +21,7 @@ xrad_status cross_update_create(struct xrad_context *ctx, cross_update_pass **ou
     VkDescriptorType types[CROSS_UPDATE_BINDING_COUNT];
     for (uint32_t b = 0; b < CROSS_UPDATE_BINDING_COUNT; b++)
         types[b] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    types[CROSS_UPDATE_BINDING_GATHER_HEMICUBES] = VK_DESCRIPTOR_TYPE_SAMPLED_IMAGE;
     gpu_kernel_desc d = {
         .spv = cross_update_comp_spv,
         .spv_bytes = sizeof(cross_update_comp_spv),
@@ -63,12 +64,14 @@ void cross_update_bind(struct xrad_context *ctx, cross_update_pass *p,
         [CROSS_UPDATE_BINDING_SURFACE_PATCH] = {b->surface_patch, 0},
         [CROSS_UPDATE_BINDING_PEAK] = {b->peak, 0},
         [CROSS_UPDATE_BINDING_FRAMES] = {b->frames, 0},
+        [CROSS_UPDATE_BINDING_GATHER_HEMICUBES] = {NULL, b->gather_hemicubes},
     };
     gpu_kernel_bind(ctx, &p->kernel, 0, r);
 }
 
 void cross_update_record(cross_update_pass *p, VkCommandBuffer cmd, uint32_t mode,
-                         uint32_t patch_count, uint32_t element_count)
+                         uint32_t patch_count, uint32_t element_count,
+                         const cross_update_gather *gather)
 {
     bool per_patch = mode == CROSS_UPDATE_TOTAL;
     struct cross_update_push push = {
@@ -77,5 +80,10 @@ void cross_update_record(cross_update_pass *p, VkCommandBuffer cmd, uint32_t mod
         .element_count = element_count,
         .patch_count = patch_count,
     };
+    if (gather) {
+        push.res = gather->res;
+        push.inv_scale = gather->scale > 0 ? 1.0f / gather->scale : 1.0f;
+        push.diameter = gather->diameter;
+    }
     gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, push.count, CROSS_UPDATE_GROUP);
 }

@@ -99,8 +99,8 @@ void integrate_record(integrate_pass *p, VkCommandBuffer cmd, const integrate_dr
         .out_first = d->out_first,
         .count = d->count,
         .inv_scale = d->scale > 0 ? 1.0f / d->scale : 1.0f,
-        .moments = d->moments,
-        .moments_first = d->moments_first,
+        .ring = d->ring,
+        .ring_first = d->ring_first,
     };
     /* One workgroup per hemicube. */
     gpu_kernel_dispatch_groups(&p->kernel, cmd, 0, &push, d->count);

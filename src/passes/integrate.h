@@ -36,8 +36,8 @@ typedef struct integrate_draw {
     const gpu_buffer *out;  /* vec4[], STORAGE usage */
     uint32_t out_first;
     float scale;            /* the image holds B x scale (hemicube_draw.scale); 0 means 1 */
-    bool moments;           /* also the irradiance vector's x and y parts (integrate_shared.h) */
-    uint32_t moments_first;
+    bool ring;              /* also the horizon ring's mean radiosity (integrate_shared.h) */
+    uint32_t ring_first;
 } integrate_draw;
 
 /* Records the dispatch outside any render pass. Points the descriptor set

@@ -126,9 +126,8 @@ typedef struct cross {
     uint32_t back_levels;     /* mip levels above 0 the projection reads */
     gpu_buffer patches;       /* struct cross_patch[P] */
     gpu_buffer values;        /* struct cross_value[P] */
-    gpu_buffer gathered;      /* vec4[4 P]: per patch the gathered sum, then its irradiance
-                                 vector's x and y parts and its horizon ring's mean
-                                 (integrate_shared.h; mesh groups) */
+    gpu_buffer gathered;      /* vec4[2 P]: per patch the gathered sum, then its horizon
+                                 ring's mean (integrate_shared.h; mesh groups) */
     gpu_buffer surface_patch; /* uint[dp.surface_patch_size] */
     gpu_buffer shot;          /* vec4[element_count]: B - Bu of C, 0 on M */
     gpu_buffer inserted;      /* vec4[element_count]: what step 5 last added to C */
@@ -353,7 +352,7 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
         (st = gpu_buffer_create(ctx, P * sizeof(struct cross_value),
                                 storage | VK_BUFFER_USAGE_TRANSFER_SRC_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->values, err)) ||
-        (st = gpu_buffer_create(ctx, 4 * P * sizeof(vec4), storage, GPU_MEM_DEVICE,
+        (st = gpu_buffer_create(ctx, 2 * P * sizeof(vec4), storage, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &c->gathered, err)) ||
         (st = gpu_buffer_create(ctx, c->dp.surface_patch_size * sizeof(uint32_t), storage,
                                 GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &c->surface_patch, err)) ||
@@ -411,6 +410,17 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
             return st;
         back_mips_bind(ctx, c->mips, hemicube_image(c->back)->view, &c->back_mips);
     }
+    /* The update pass binds the gather hemicubes in every mode, before the
+     * first gather draws them. */
+    gpu_cmd init;
+    if ((st = gpu_cmd_begin(ctx, &init, err)))
+        return st;
+    gpu_image_transition(init.cmd, hemicube_image(c->gather), VK_IMAGE_LAYOUT_UNDEFINED,
+                         VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    st = gpu_cmd_run(ctx, &init, err);
+    gpu_cmd_destroy(ctx, &init);
+    if (st)
+        return st;
     /* Without the list its bindings are placeholders: pair_capacity 0 reads none;
      * so for the mips where back_levels is 0. */
     const gpu_buffer *none = &c->values;
@@ -418,7 +428,8 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                       &(cross_update_bindings){&gs->surfaces, &gs->elements, &gs->materials,
                                                &gs->B, &gs->Bu, &c->patches, &c->values,
                                                &c->gathered, &c->shot, &c->surface_patch,
-                                               &c->peak, &c->frames});
+                                               &c->peak, &c->frames,
+                                               hemicube_image(c->gather)->view});
     cross_reconstruct_bind(ctx, c->reconstruct,
                            &(cross_reconstruct_bindings){
                                &gs->surfaces, &gs->elements, &gs->materials, &gs->B, &gs->Bu,
@@ -514,9 +525,9 @@ static void record_reset(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     uint32_t n = gs->element_count;
     full_barrier(cmd);
     gpu_timer_begin(s->timer, cmd, "cross.update");
-    cross_update_record(c->update, cmd, CROSS_UPDATE_RESET, c->P, n);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_RESET, c->P, n, NULL);
     compute_barrier(cmd);
-    cross_update_record(c->update, cmd, CROSS_UPDATE_INDIRECT_C, c->P, n);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_INDIRECT_C, c->P, n, NULL);
     compute_barrier(cmd);
     atlas_scatter_record(c->scatter, cmd,
                          &(atlas_scatter_draw){&gs->elements, &c->shot, n, &gs->atlas});
@@ -554,9 +565,12 @@ static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     integrate_record(c->integrate, cmd,
                      &(integrate_draw){.hemicubes = hemicube_image(c->gather)->view, .count = P,
                                        .out = &c->gathered, .scale = (float)c->scale,
-                                       .moments = true, .moments_first = P});
+                                       .ring = true, .ring_first = P});
     compute_barrier(cmd);
-    cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n,
+                        &(cross_update_gather){.res = s->desc.hemicube_res,
+                                               .scale = (float)c->scale,
+                                               .diameter = (float)c->diameter});
     gpu_timer_end(s->timer, cmd);
     s->stats.hemicubes += P;
 }
@@ -641,10 +655,10 @@ static void record_m(xrad_solver *s, cross *c, VkCommandBuffer cmd)
     if (c->reach_count || c->lum.active)
         record_reconstruct(s, c, cmd, CROSS_RECONSTRUCT_M_DIRECT, 0, n);
     full_barrier(cmd);
-    cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, c->P, n);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, c->P, n, NULL);
     record_reconstruct(s, c, cmd, CROSS_RECONSTRUCT_M, 0, n);
     full_barrier(cmd);
-    cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, c->P, n);
+    cross_update_record(c->update, cmd, CROSS_UPDATE_TOTAL, c->P, n, NULL);
 }
 
 /* Step 5 for elements [first, first + count): the pairs that see each

@@ -73,10 +73,11 @@ typedef struct face_key {
 /* Cones of normals a group's faces share: the cube face of the normal's
  * largest component, cut into NORMAL_CELLS x NORMAL_CELLS by the other
  * two components over it (a cube map of directions): cells of about 25
- * degrees. A group then faces one way to within about 20 degrees, where
- * its gather hemicube's irradiance vector gives each face its own gathered
- * light (spirv/cross_update.comp); on an 80-face ball in quadrant cones of
- * up to 55 degrees the side faces were 0.87-0.93 of the CPU reference's. */
+ * degrees. A group then faces one way to within about 20 degrees, and
+ * each face reads the group's gather hemicube from its own point
+ * (spirv/cross_update.comp); on an 80-face ball in quadrant cones of up to
+ * 55 degrees, with one value a group, the side faces were 0.87-0.93 of the
+ * CPU reference's. */
 #define NORMAL_CELLS 4
 
 static uint32_t normal_bin(vec3 n)

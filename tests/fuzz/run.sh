@@ -12,6 +12,12 @@
 # in tests/fuzz/regressions/NAME/ so every build replays it. Prints
 # libFuzzer's execution count; exits 0 when nothing was found, else 1 (never
 # 77, which meson would read as "skipped").
+#
+# The mutations follow a fixed seed (FUZZ_SEED, default 1), so that a run
+# tries the same inputs in the same order every time and a failure in CI
+# is one anyone can repeat; FUZZ_SEED=0 lets libFuzzer pick one (explore).
+# A CI run once stopped in assimp's OBJ reader after 2,077 inputs of a
+# random seed, and the saved input alone ran clean (tests/fuzz/README.md).
 set -u
 if [ $# -ne 4 ]; then
     echo "usage: run.sh FUZZER NAME SECONDS OUTDIR" >&2
@@ -61,9 +67,9 @@ log="$out/fuzz-$name.log"
 start=$(date +%s)
 stamp="$out/.started-$name"
 : >"$stamp"
-echo "fuzz $name: $seeds seeds, $seconds s, log $log"
+echo "fuzz $name: $seeds seeds, $seconds s, seed ${FUZZ_SEED:-1}, log $log"
 # shellcheck disable=SC2086 # $dict and $quiet are one word or none
-"$fuzzer" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
+"$fuzzer" -seed="${FUZZ_SEED:-1}" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 \
     -error_exitcode=1 -timeout_exitcode=1 -print_final_stats=1 \
     -artifact_prefix="$out/" $dict $quiet "$out/corpus" >"$log" 2>&1
 rc=$?

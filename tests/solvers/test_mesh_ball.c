@@ -16,20 +16,22 @@
  *    solution to the bit as without, the culled clusters lying behind
  *    every base of a batch or on the ball's far side.
  *
- * Bounds are about 1.5 times what was measured when they were set
- * (surface_error / element p95: cross 80 faces 0.029 / 0.010, 320 faces
- * 0.058 / 0.011; without the horizon ring's term (cross_update.comp)
- * 0.033 / 0.010 and 0.078 / 0.020; without groups' irradiance vectors and
- * the depth rule: 0.047 / 0.018, refused, 0.236 / 0.072), progressive's
- * twice (320 faces 0.0104 / 0.0106, mean ratio 0.9964; it was 0.027 /
- * 0.025 and a mean ratio of 0.982 when it stopped on the largest unshot
- * power alone, which 1280 small elements each below it met with 1.8% of
- * the light unshot, and when the faces' shadows took the texels' occluders
- * alone); the mean over all elements within 1%. Cross's worst faces are
- * the 320-face ball's lowest, 0.95-1.06 of the CPU reference's: they look
- * 30 cm down at the ball's own shadow from up to 13 cm off the pole, and
- * the likely cause (not measured) is parallax, which one hemicube per group
- * cannot show.
+ * Cross is held to issue 14's thresholds, 2% a surface and 5% element
+ * p95, and the mean within 1%. Measured: 80 faces 0.0138 / 0.0087, 320
+ * faces 0.0103 / 0.0079. Each face reprojects its group's gather hemicube
+ * to its own receiver point (spirv/cross_update.comp). Before that, with
+ * the group's irradiance vector and horizon ring read at the hemicube's
+ * point, they were 0.030 / 0.009 and 0.058 / 0.010: the lowest faces of
+ * the 320-face ball look 30 cm down at the ball's own shadow from up to
+ * 13 cm off their group's hemicube. `xrad bench` of the 320-face scene at
+ * --time 1 (lavapipe, frame ms / surface_error at the last frame, one
+ * run): 96 groups 466 / 0.011 with the reprojection, 346 / 0.060 without;
+ * a patch a face (cross_density 100, 320 patches) 1159 / 0.011 and
+ * 1038 / 0.011. Progressive is held to twice what was measured (320 faces
+ * 0.0104 / 0.0106, mean ratio 0.9964; it was 0.027 / 0.025 and a mean
+ * ratio of 0.982 when it stopped on the largest unshot power alone, which
+ * 1280 small elements each below it met with 1.8% of the light unshot, and
+ * when the faces' shadows took the texels' occluders alone).
  */
 #include <stdio.h>
 #include <string.h>
@@ -161,10 +163,10 @@ int main(int argc, char **argv)
     if (!ctx)
         return test_finish();
     if (!only || !strcmp(only, "cross")) {
-        check_method(ctx, "tests/data/ball-room-80.json", XRAD_METHOD_CROSS, "cross", 0.045,
-                     0.015, 0.01);
-        check_method(ctx, "tests/data/ball-room-320.json", XRAD_METHOD_CROSS, "cross", 0.087,
-                     0.017, 0.01);
+        check_method(ctx, "tests/data/ball-room-80.json", XRAD_METHOD_CROSS, "cross", 0.02,
+                     0.05, 0.01);
+        check_method(ctx, "tests/data/ball-room-320.json", XRAD_METHOD_CROSS, "cross", 0.02,
+                     0.05, 0.01);
     }
     if (!only || !strcmp(only, "progressive"))
         check_method(ctx, "tests/data/ball-room-320.json", XRAD_METHOD_PROGRESSIVE,
