@@ -13,8 +13,12 @@
 //            (peak), for the hemicubes' fp16 scale;
 //  GATHERED  per element of M: B = E + rho * (the gathered sums of its
 //            surface's coarse samples, interpolated bilinearly at the
-//            element's sample; a group's faces: the group's sum), Bu = 0 (lines 12-14: the total is shot
-//            next, so nothing is left unshot);
+//            element's sample), Bu = 0 (lines 12-14: the total is shot
+//            next, so nothing is left unshot); an element in contact
+//            B = E; a mesh group's other faces are GROUPS';
+//  GROUPS    a workgroup per mesh group: its faces' elements B = E + rho *
+//            the group's gather hemicube read from their own points
+//            (gather_group), Bu = 0;
 //  TOTAL     per patch of M: the area mean of B, what the patch shoots
 //            (line 13: T updated with B_s).
 // The shot radiosity B - Bu of M before the reset (line 4) is not needed:
@@ -70,84 +74,156 @@ float bracket(float s, uint n, out uint c0)
     return clamp((s - a) / (b - a), 0.0, 1.0);
 }
 
-// The world point a gather hemicube texel shows (its alpha the distance
-// from the hemicube's origin o over the scene diameter), or alpha <= 0
-// where nothing was drawn.
-vec3 texel_point(uint layer, uint face, ivec2 t, uint res, vec3 o, mat3 frame, out float alpha)
-{
-    alpha = texelFetch(gather_hemicubes, ivec3(t, int(layer + face)), 0).a;
-    vec3 d = hemicube_texel_direction(face, uvec2(t), res);
-    return o + (alpha * pc.diameter * inversesqrt(dot(d, d))) * (frame * d);
-}
-
-// The gathered sum sum_j F_ij B_j of a group's face at point x with normal
-// n, from its group's gather hemicube (patch `first`, frame f): each texel
-// the hemicube saw is a piece of surface at the distance its alpha holds,
+// GROUPS: each face of a mesh group (patch p, one workgroup) reads the
+// group's gather hemicube from its own receiver point x (its cell's
+// centroid, where the CPU reference and the shooting passes take an
+// element's value) and normal n. Each texel the hemicube saw is a piece of
+// surface at the distance its alpha holds (from the hemicube's origin o),
 // facing along the normal its neighbours' points give (the nearer of the
 // two on each axis, so that a depth edge does not tilt it). From x that
 // piece spans the texel's solid angle from o times (dist / |q - x|)^2 x
 // cos' / cos (its cosines towards x and o), in the direction from x to it,
-// by n's cosine. A face lies up to half its group's size from o; reading
-// the hemicube at o (the irradiance vector, integrate.comp) gave the
-// 320-face ball's lowest faces, 30 cm above the ball's own shadow, up to
-// 6% off the CPU reference (one hemicube a face: 0.7%;
+// by n's cosine. A face lies up to half its group's size from o; read at o
+// through the hemicube's irradiance vector, the 320-face ball's lowest
+// faces, 30 cm above the ball's own shadow, came out up to 6% off the CPU
+// reference (one hemicube a face: 0.7%; now 1%,
 // tests/solvers/test_mesh_ball.c). Without cos' / cos the floor's
 // foreshortening, 30 cm away, was 10% off for a point 3 cm further from
-// it. What lies below o's horizon and above the face's (a face tilted by
-// t from the group's axis sees (1 - cos t) / 2 of its cosine-weighted
+// it. What lies below o's horizon and above the face's (a face tilted by t
+// from the group's axis sees (1 - cos t) / 2 of its cosine-weighted
 // hemisphere there: the view factor of a tilted plane to the half-space
-// above another) takes the horizon ring's mean radiosity.
-vec3 reprojected(uint first, gpu_shooter f, vec3 x, vec3 n)
+// above another) takes the horizon ring's mean radiosity. The texels are
+// read a tile at a time into shared memory, once for all the group's
+// faces.
+// Texels a tile: each invocation loads 4 (fewer barriers, which lavapipe
+// runs as a switch between its invocations' coroutines).
+const uint TILE = 4u * CROSS_UPDATE_GROUP;
+shared vec4 tile_q[TILE]; // xyz: the texel's point; w: 1 where it counts
+shared vec4 tile_n[TILE]; // xyz: its piece's normal (0: none); w: cos towards o
+shared vec3 tile_w[TILE]; // B x its solid angle from o x dist^2 (cosines apart)
+
+// The world point a gather hemicube texel shows, and its alpha (<= 0:
+// nothing drawn).
+vec3 texel_point(uint layer, uint face, ivec2 t, vec3 o, mat3 frame, out float alpha)
 {
+    alpha = texelFetch(gather_hemicubes, ivec3(t, int(layer + face)), 0).a;
+    vec3 d = hemicube_texel_direction(face, uvec2(t), pc.res);
+    return o + (alpha * pc.diameter * inversesqrt(dot(d, d))) * (frame * d);
+}
+
+// Texel i of the group's hemicube (layer first: 5 p) into tile slot l.
+void load_texel(uint i, uint l, uint layer, vec3 o, mat3 frame)
+{
+    uint res = pc.res;
+    tile_q[l] = vec4(0.0);
+    if (i >= 3u * res * res)
+        return;
+    uvec2 tu;
+    uint face = hemicube_weighted_texel(i, res, tu);
+    vec4 v = texelFetch(gather_hemicubes, ivec3(ivec2(tu), int(layer + face)), 0);
+    if (v.a <= 0.0 || v.r + v.g + v.b <= 0.0)
+        return; // nothing drawn, or black (M, back sides)
+    ivec2 t = ivec2(tu);
+    vec3 d = hemicube_texel_direction(face, tu, res);
+    float r2 = dot(d, d), dist = v.a * pc.diameter;
+    vec3 q = o + (dist * inversesqrt(r2)) * (frame * d);
+    vec3 edge[2];
+    for (int a = 0; a < 2; a++) {
+        ivec2 step = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
+        ivec2 tp = t + step, tm = t - step;
+        float ap = -1.0, am = -1.0;
+        vec3 qp = q, qm = q;
+        if (tp[a] < int(res))
+            qp = texel_point(layer, face, tp, o, frame, ap);
+        if (tm[a] >= 0)
+            qm = texel_point(layer, face, tm, o, frame, am);
+        float ep = ap > 0.0 ? abs(ap - v.a) : 1e30, em = am > 0.0 ? abs(am - v.a) : 1e30;
+        edge[a] = ep <= em ? qp - q : q - qm;
+    }
+    vec3 nq = cross(edge[0], edge[1]);
+    float nn = dot(nq, nq);
+    nq = nn > 0.0 ? nq * inversesqrt(nn) : vec3(0.0);
+    // Oriented towards o; its cosine there.
+    float co = dot(nq, o - q) / dist;
+    if (co < 0.0) {
+        nq = -nq;
+        co = -co;
+    }
+    float texel_area = 4.0 / float(res * res);
+    tile_q[l] = vec4(q, 1.0);
+    tile_n[l] = vec4(nq, max(co, 1e-6));
+    tile_w[l] = v.rgb * (texel_area * dist * dist / (r2 * sqrt(r2)));
+}
+
+// Member element `index` of group p (its member surfaces' elements in
+// order), 0xffffffff past them; count: the group's element count.
+uint group_element(cross_patch p, uint index, out uint count)
+{
+    count = 0u;
+    uint found = 0xffffffffu;
+    for (uint m = 0u; m < p.member_count; m++) {
+        gpu_surface ms = surfaces[surface_patch[p.member_first + m]];
+        uint n = ms.nu * ms.nv;
+        if (found == 0xffffffffu && index < count + n)
+            found = ms.first_element + (index - count);
+        count += n;
+    }
+    return found;
+}
+
+void gather_group(uint p)
+{
+    cross_patch cp = patches[p];
+    if (cp.member_count == 0u)
+        return; // the whole workgroup: a block, not a group
+    gpu_shooter f = frames[CROSS_FRAMES_GATHER * pc.patch_count + p];
     vec3 z = f.normal.xyz, tx = f.tangent.xyz, o = f.pos_area.xyz;
     mat3 frame = mat3(tx, cross(z, tx), z);
-    uint res = pc.res, weighted = 3u * res * res, layer = first * 5u;
-    float texel_area = 4.0 / float(res * res);
-    vec3 sum = vec3(0.0);
-    for (uint i = 0u; i < weighted; i++) {
-        uvec2 tu;
-        uint face = hemicube_weighted_texel(i, res, tu);
-        vec4 v = texelFetch(gather_hemicubes, ivec3(ivec2(tu), int(layer + face)), 0);
-        if (v.a <= 0.0 || v.r + v.g + v.b <= 0.0)
-            continue; // nothing drawn, or black (M, back sides)
-        ivec2 t = ivec2(tu);
-        vec3 d = hemicube_texel_direction(face, tu, res);
-        float r2 = dot(d, d), dist = v.a * pc.diameter;
-        vec3 q = o + (dist * inversesqrt(r2)) * (frame * d);
-        vec3 w = q - x;
-        float w2 = dot(w, w), c = dot(n, w);
-        if (c <= 0.0 || w2 <= 0.0)
-            continue;
-        // The piece's normal from its neighbours' points.
-        vec3 edge[2];
-        for (int a = 0; a < 2; a++) {
-            ivec2 step = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
-            ivec2 tp = t + step, tm = t - step;
-            float ap = -1.0, am = -1.0;
-            vec3 qp = q, qm = q;
-            if (tp[a] < int(res))
-                qp = texel_point(layer, face, tp, res, o, frame, ap);
-            if (tm[a] >= 0)
-                qm = texel_point(layer, face, tm, res, o, frame, am);
-            float ep = ap > 0.0 ? abs(ap - v.a) : 1e30, em = am > 0.0 ? abs(am - v.a) : 1e30;
-            edge[a] = ep <= em ? qp - q : q - qm;
+    uint layer = p * 5u, l = gl_LocalInvocationID.x, texels = 3u * pc.res * pc.res;
+    uint count;
+    group_element(cp, 0u, count);
+    for (uint base = 0u; base < count; base += CROSS_UPDATE_GROUP) {
+        uint dummy, k = group_element(cp, base + l, dummy);
+        bool mine = k != 0xffffffffu && (elements[k].flags & GPU_ELEMENT_BURIED_ANY) == 0u;
+        vec3 x = vec3(0.0), n = vec3(0.0, 0.0, 1.0), sum = vec3(0.0);
+        if (mine) {
+            gpu_surface sf = surfaces[elements[k].surface];
+            uint ke = k - sf.first_element;
+            x = cell_centroid(sf, ke % sf.nu, ke / sf.nu);
+            // its receiver normal, its face's or its normal map's
+            // (xrad.h normal_map), posed
+            n = elements[k].normal.xyz;
         }
-        vec3 nq = cross(edge[0], edge[1]);
-        float nn = dot(nq, nq);
-        float ratio = 1.0;
-        if (nn > 0.0) {
-            nq *= inversesqrt(nn);
-            float co = abs(dot(nq, o - q)) / dist, cx = abs(dot(nq, x - q)) * inversesqrt(w2);
-            // the same side of the piece seen from both, and not grazing from o
-            ratio = dot(nq, o - q) * dot(nq, x - q) > 0.0 ? min(cx / max(co, 1e-6), 4.0) : 0.0;
+        for (uint t0 = 0u; t0 < texels; t0 += TILE) {
+            barrier();
+            for (uint j = l; j < TILE; j += CROSS_UPDATE_GROUP)
+                load_texel(t0 + j, j, layer, o, frame);
+            barrier();
+            for (uint j = 0u; mine && j < TILE; j++) {
+                vec4 qv = tile_q[j];
+                if (qv.w == 0.0)
+                    continue;
+                vec3 w = qv.xyz - x;
+                float w2 = dot(w, w), c = dot(n, w);
+                if (c <= 0.0 || w2 <= 0.0)
+                    continue;
+                float iw = inversesqrt(w2);
+                vec4 nq = tile_n[j];
+                // cos' / cos: the same side seen from both, and not grazing from o
+                float cx = -dot(nq.xyz, w) * iw;
+                float ratio = dot(nq.xyz, nq.xyz) == 0.0 ? 1.0 : cx > 0.0 ? min(cx / nq.w, 4.0) : 0.0;
+                sum += tile_w[j] * (c * iw * ratio / w2);
+            }
         }
-        // solid angle from o: texel_area / |d|^3; from x: times dist^2 / w2 x cos' / cos
-        sum += v.rgb * (c * inversesqrt(w2) * texel_area * dist * dist * ratio /
-                        (r2 * sqrt(r2) * w2));
+        if (mine) {
+            float ct = clamp(dot(n, z), -1.0, 1.0);
+            vec3 ring = gathered[pc.patch_count + p].rgb;
+            vec3 g = sum * (pc.inv_scale / 3.14159265358979) + 0.5 * (1.0 - ct) * ring;
+            gpu_material m = materials[surfaces[elements[k].surface].material];
+            B[k] = vec4(m.emission.rgb + elements[k].albedo.rgb * max(g, vec3(0.0)), 0.0);
+            Bu[k] = vec4(0.0);
+        }
     }
-    float ct = clamp(dot(n, z), -1.0, 1.0);
-    vec3 ring = gathered[pc.patch_count + first].rgb;
-    return sum * (pc.inv_scale / 3.14159265358979) + 0.5 * (1.0 - ct) * ring;
 }
 
 // Area mean of B over the patch's elements: a block's, or every element
@@ -181,6 +257,10 @@ vec3 patch_mean(cross_patch p)
 
 void main()
 {
+    if (pc.mode == CROSS_UPDATE_GROUPS) {
+        gather_group(gl_WorkGroupID.x);
+        return;
+    }
     uint k = gl_GlobalInvocationID.x;
     if (k >= pc.count)
         return;
@@ -216,23 +296,13 @@ void main()
     // linear between those points, constant beyond the outer ones.
     uint first = surface_patch[elements[k].surface];
     // A group's faces each read its gather hemicube from their own receiver
-    // point and normal (reprojected() above; the cell's centroid, where the
-    // CPU reference and the shooting passes take an element's value). With
-    // one value for all, a 80-face ball's side faces were 0.89 of the CPU
+    // point and normal (GROUPS, gather_group() above). With one value for
+    // all, a 80-face ball's side faces were 0.89 of the CPU
     // reference's; with the hemicube's irradiance vector dotted with each
     // face's normal and the horizon ring, 0.97-1.03, and the 320-face
     // ball's lowest faces 0.945-1.058 (parallax).
-    if (patches[first].member_count != 0u) {
-        gpu_shooter f = frames[CROSS_FRAMES_GATHER * pc.patch_count + first];
-        // n: the element's receiver normal, its face's or its normal
-        // map's (xrad.h normal_map), posed.
-        vec3 n = elements[k].normal.xyz;
-        uint ke = k - sf.first_element;
-        vec3 g = reprojected(first, f, cell_centroid(sf, ke % sf.nu, ke / sf.nu), n);
-        B[k] = vec4(m.emission.rgb + elements[k].albedo.rgb * max(g, vec3(0.0)), 0.0);
-        Bu[k] = vec4(0.0);
-        return;
-    }
+    if (patches[first].member_count != 0u)
+        return; // GROUPS
     uint cx = patches[first].cx, cy = patches[first].cy;
     uint ke = k - sf.first_element;
     uint c0x, c0y;

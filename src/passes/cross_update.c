@@ -76,7 +76,10 @@ void cross_update_record(cross_update_pass *p, VkCommandBuffer cmd, uint32_t mod
     bool per_patch = mode == CROSS_UPDATE_TOTAL;
     struct cross_update_push push = {
         .mode = mode,
-        .count = per_patch ? patch_count : element_count,
+        /* GROUPS: a workgroup per patch */
+        .count = mode == CROSS_UPDATE_GROUPS ? patch_count * CROSS_UPDATE_GROUP
+                 : per_patch                 ? patch_count
+                                             : element_count,
         .element_count = element_count,
         .patch_count = patch_count,
     };

@@ -5,7 +5,8 @@
  * (modes in spirv/cross_shared.h, what each does in spirv/
  * cross_update.comp): reset M to its emission, write the shot radiosity
  * of C less its emission for the hemicubes (and its peak), set M from the
- * gathered sums, and take the patches' total radiosity.
+ * gathered sums (a mesh group's faces from its gather hemicube, read from
+ * each face), and take the patches' total radiosity.
  */
 #ifndef XRAD_PASSES_CROSS_UPDATE_H
 #define XRAD_PASSES_CROSS_UPDATE_H
@@ -51,7 +52,7 @@ void cross_update_bind(struct xrad_context *ctx, cross_update_pass *pass,
                        const cross_update_bindings *b);
 
 /* Records one step (CROSS_UPDATE_*) over the scene's patch_count patches or
- * element_count elements; `gather` for GATHERED (else NULL). The caller
+ * element_count elements; `gather` for GROUPS (else NULL). The caller
  * orders what it reads before it and its readers after it. */
 void cross_update_record(cross_update_pass *pass, VkCommandBuffer cmd, uint32_t mode,
                          uint32_t patch_count, uint32_t element_count,

@@ -114,6 +114,7 @@ typedef struct cross {
     progressive *prog;
     dynamic_patches dp;
     uint32_t P; /* patches of M */
+    bool groups; /* some are mesh groups (dynamic_patches.h): the GROUPS update runs */
     dynamic_patches lights; /* the lights of C in fixed patches (direct light) */
     uint32_t L;
     hemicube_pass *ids, *back, *gather;
@@ -460,6 +461,8 @@ static xrad_status create(xrad_solver *s, xrad_error *err)
         (st = progressive_create(s, c->dp.count ? PROGRESSIVE_STATIC_ONLY : 0u, &c->prog, err)))
         goto fail;
     c->P = c->dp.count;
+    for (uint32_t p = 0; p < c->P; p++)
+        c->groups = c->groups || c->dp.patches[p].member_count > 0;
     /* The lights matter where something moves in front of them. */
     if (c->P && (st = dynamic_patches_build_lights(s->scene, s->desc.max_patches,
                                                    s->gs.diameter, &c->lights, err)))
@@ -567,10 +570,12 @@ static void record_gather(xrad_solver *s, cross *c, VkCommandBuffer cmd)
                                        .out = &c->gathered, .scale = (float)c->scale,
                                        .ring = true, .ring_first = P});
     compute_barrier(cmd);
-    cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n,
-                        &(cross_update_gather){.res = s->desc.hemicube_res,
-                                               .scale = (float)c->scale,
-                                               .diameter = (float)c->diameter});
+    cross_update_record(c->update, cmd, CROSS_UPDATE_GATHERED, P, n, NULL);
+    if (c->groups)
+        cross_update_record(c->update, cmd, CROSS_UPDATE_GROUPS, P, n,
+                            &(cross_update_gather){.res = s->desc.hemicube_res,
+                                                   .scale = (float)c->scale,
+                                                   .diameter = (float)c->diameter});
     gpu_timer_end(s->timer, cmd);
     s->stats.hemicubes += P;
 }
