@@ -4,7 +4,8 @@
 # NAME is a harness in tests/fuzz/ (fuzz_NAME.c; `scene` is the scene
 # parser's). Builds it in build-fuzz with clang, libFuzzer, AddressSanitizer
 # and UndefinedBehaviorSanitizer, then runs it for SECONDS on a fresh copy of
-# its seeds (tests/fuzz/run.sh). Prints libFuzzer's execution count. Exits 0
+# its seeds (tests/fuzz/run.sh; FUZZ_SEED picks the mutations, default 1,
+# 0 random). Prints libFuzzer's execution count. Exits 0
 # when nothing was found; non-zero on a crash, leak, hang or undefined
 # behaviour, with the input saved under build-fuzz/tests/fuzz/out-NAME/ (copy
 # it to tests/fuzz/regressions/NAME/ so every build replays it).
