@@ -94,7 +94,7 @@ void main()
             uint above = 0u;
             for (uint i = 0u; i <= n; i++)
                 above |= seen(cell_bilinear(sf, float(i) * h, float(bj + 1u) * h), x) ? 1u << i
-                                                                                     : 0u;
+                                                                                      : 0u;
             for (uint bi = 0u; bi < n; bi++) {
                 float s0 = float(bi) * h, t0 = float(bj) * h;
                 float whole = block(sf, s0, s0 + h, t0, t0 + h, x, ne);

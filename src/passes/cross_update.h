@@ -34,7 +34,7 @@ typedef struct cross_update_bindings {
     VkImageView gather_hemicubes; /* the gather hemicubes (CROSS_UPDATE_BINDING_GATHER_HEMICUBES) */
 } cross_update_bindings;
 
-/* GATHERED's view of the gather hemicubes: their resolution, the scale
+/* GROUPS' view of the gather hemicubes: their resolution, the scale
  * they hold B by, and the scene diameter their alpha is a fraction of. */
 typedef struct cross_update_gather {
     uint32_t res;

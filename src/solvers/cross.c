@@ -19,7 +19,8 @@
  *      of C alone was drawn at create.
  *   3. R_g(C, M): integrate the gather hemicubes; the elements of M take
  *      B = E + rho x (their surface's coarse samples, interpolated)
- *      (GATHERED), then rho x the direct light of C's lights through the
+ *      (GATHERED), a mesh group's faces rho x its gather hemicube read
+ *      from each face's own point (GROUPS), then rho x the direct light of C's lights through the
  *      lights' hemicubes and of the luminaires (M_DIRECT), and T.total =
  *      area mean of B per patch (TOTAL).
  *   4. R_p(M, M) into B of M, and TOTAL again: what M shoots to C holds
