@@ -66,9 +66,9 @@ struct cross_quad {
 #define CROSS_UPDATE_INDIRECT_C 1u /* per element: out = B - Bu - E on C, 0 on M (the atlas), peak */
 #define CROSS_UPDATE_GATHERED 2u   /* per element of M: B = E + rho x gathered (interpolated), Bu = 0 */
 #define CROSS_UPDATE_TOTAL 3u      /* per patch: values.total = mean(B) */
-#define CROSS_UPDATE_GROUPS 4u     /* a workgroup per mesh group: B = E + rho x its gather hemicube
-                                      reprojected to each face's point, Bu = 0 (GATHERED leaves
-                                      those elements) */
+/* a workgroup per mesh group: B = E + rho x its gather hemicube reprojected
+ * to each face's point, Bu = 0 (GATHERED leaves those elements) */
+#define CROSS_UPDATE_GROUPS 4u
 
 #define CROSS_UPDATE_BINDING_SURFACES 0
 #define CROSS_UPDATE_BINDING_ELEMENTS 1

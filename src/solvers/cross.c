@@ -114,8 +114,8 @@
 typedef struct cross {
     progressive *prog;
     dynamic_patches dp;
-    uint32_t P; /* patches of M */
-    bool groups; /* some are mesh groups (dynamic_patches.h): the GROUPS update runs */
+    uint32_t P;             /* patches of M */
+    bool groups;            /* some are mesh groups (dynamic_patches.h): the GROUPS update runs */
     dynamic_patches lights; /* the lights of C in fixed patches (direct light) */
     uint32_t L;
     hemicube_pass *ids, *back, *gather;

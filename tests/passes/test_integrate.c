@@ -113,8 +113,9 @@ static xrad_status gather_ring(xrad_context *ctx, const xrad_scene *sc, const fr
         (s = integrate_create(ctx, RES, &ip, &err)) || (s = atlas_scatter_create(ctx, &sp, &err)) ||
         (s = gpu_buffer_create(ctx, sizeof(sh), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
                                GPU_MEM_GEOMETRY, &fbuf, &err)) ||
-        (s = gpu_buffer_create(ctx, 2 * MAX_CUBES * sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                               GPU_MEM_READBACK, GPU_MEM_OTHER, &out, &err)) ||
+        (s = gpu_buffer_create(ctx, 2 * MAX_CUBES * sizeof(vec4),
+                               VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_READBACK, GPU_MEM_OTHER,
+                               &out, &err)) ||
         (s = gpu_upload_buffer(ctx, &fbuf, 0, sh, n * sizeof(sh[0]), &err)) ||
         (s = gpu_cmd_begin(ctx, &c, &err)))
         goto done;
@@ -279,11 +280,10 @@ static void test_ring_empty(xrad_context *ctx)
     if (!gather_ring(ctx, sc, frames, 2, 4, 1.0f / 3, sums, rings)) {
         for (int h = 0; h < 2; h++) {
             fprintf(stderr, "horizon ring under the square at (%.2f, %.2f): (%g %g %g)\n",
-                    frames[h].origin.x, frames[h].origin.y, rings[h][0], rings[h][1],
-                    rings[h][2]);
+                    frames[h].origin.x, frames[h].origin.y, rings[h][0], rings[h][1], rings[h][2]);
             for (int c = 0; c < 3; c++)
-                CHECK(rings[h][c] == 0, "horizon ring, hemicube %d: %g where it shows nothing",
-                      h, rings[h][c]);
+                CHECK(rings[h][c] == 0, "horizon ring, hemicube %d: %g where it shows nothing", h,
+                      rings[h][c]);
             CHECK(sums[h][0] > 0, "hemicube %d: the square gathered nothing", h);
         }
     }

@@ -163,10 +163,10 @@ int main(int argc, char **argv)
     if (!ctx)
         return test_finish();
     if (!only || !strcmp(only, "cross")) {
-        check_method(ctx, "tests/data/ball-room-80.json", XRAD_METHOD_CROSS, "cross", 0.02,
-                     0.05, 0.01);
-        check_method(ctx, "tests/data/ball-room-320.json", XRAD_METHOD_CROSS, "cross", 0.02,
-                     0.05, 0.01);
+        check_method(ctx, "tests/data/ball-room-80.json", XRAD_METHOD_CROSS, "cross", 0.02, 0.05,
+                     0.01);
+        check_method(ctx, "tests/data/ball-room-320.json", XRAD_METHOD_CROSS, "cross", 0.02, 0.05,
+                     0.01);
     }
     if (!only || !strcmp(only, "progressive"))
         check_method(ctx, "tests/data/ball-room-320.json", XRAD_METHOD_PROGRESSIVE,
