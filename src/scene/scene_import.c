@@ -896,8 +896,9 @@ static uint32_t ply_type_size(const char *t)
  * (a digit and a separator) per property in ASCII; at least one byte in
  * any case, since assimp reserves per instance even for an element without
  * properties. It also never returns from a header whose end_header is not
- * a line of its own (missing, or taken as a property's name), so the
- * header's lines are checked for that too. `head` is the file's first
+ * a line of its own (missing, taken as a property's name, or followed on
+ * its line by more than blanks), so the header's lines are checked for
+ * that too. `head` is the file's first
  * head_len bytes, of size in all. Lines this does not know are left to
  * assimp, which skips them. */
 static xrad_status ply_check(const char *path, const char *head, size_t head_len, uint64_t size,
@@ -922,6 +923,13 @@ static xrad_status ply_check(const char *path, const char *head, size_t head_len
         int words = sscanf(line, "%63s %63s %63s %63s %63s", w[0], w[1], w[2], w[3], w[4]);
         bool list = words >= 2 && !strcmp(w[1], "list");
         if (words >= 1 && !strcmp(w[0], "end_header")) {
+            /* Only blanks after it: assimp 5.2 loops for ever on an
+             * end_header followed by a vertical tab and the first vertex
+             * (regressions/import/ply-end-header-vtab-hangs-assimp). */
+            const char *rest = strstr(line, "end_header") + strlen("end_header");
+            if (rest[strspn(rest, " \t\r")] != '\0')
+                return xrad_fail(err, XRAD_ERROR_INPUT, "%s: PLY header: line %u: end_header "
+                                 "must end its line", path, number);
             ended = true;
         } else if (words >= 2 && !strcmp(w[0], "format")) {
             binary = !strncmp(w[1], "binary", 6);
