@@ -570,6 +570,16 @@ static void wrong_content(void)
     static const char upper[] = "PLY\nformat ascii 1.0\nelement vertex 1\nproperty float x\n";
     in_memory("PLY in capitals", "upper.ply", upper, sizeof(upper) - 1, XRAD_ERROR_INPUT,
               (const char *const[]){"no end_header", NULL});
+    /* The fixed-seed fuzzer's hang: end_header, a vertical tab and the
+     * first vertex on one line; blanks after end_header are fine. */
+    fuzz_input("regressions", "ply-end-header-vtab-hangs-assimp", XRAD_ERROR_INPUT,
+               (const char *const[]){"line 9", "end_header must end its line", NULL});
+    static const char blanks[] = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
+                                 "property float y\nproperty float z\nelement face 1\n"
+                                 "property list uchar int vertex_indices\nend_header \t\r\n"
+                                 "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+    in_memory("PLY end_header and blanks", "blanks.ply", blanks, sizeof(blanks) - 1, XRAD_OK,
+              (const char *const[]){NULL});
     /* glTF 1.0 (assimp has a reader for it): refused, saying why. */
     broken("../glTF/BoxTextured-glTF/BoxTextured.gltf", XRAD_ERROR_INPUT,
            (const char *const[]){"asset.version is \"1.0\"", "glTF 2.0", NULL});
