@@ -156,19 +156,17 @@ void load_texel(uint i, uint l, uint layer, vec3 o, mat3 frame)
 }
 
 // Member element `index` of group p (its member surfaces' elements in
-// order), 0xffffffff past them; count: the group's element count.
-uint group_element(cross_patch p, uint index, out uint count)
+// order), 0xffffffff past them.
+uint group_element(cross_patch p, uint index)
 {
-    count = 0u;
-    uint found = 0xffffffffu;
     for (uint m = 0u; m < p.member_count; m++) {
         gpu_surface ms = surfaces[surface_patch[p.member_first + m]];
         uint n = ms.nu * ms.nv;
-        if (found == 0xffffffffu && index < count + n)
-            found = ms.first_element + (index - count);
-        count += n;
+        if (index < n)
+            return ms.first_element + index;
+        index -= n;
     }
-    return found;
+    return 0xffffffffu;
 }
 
 void gather_group(uint p)
@@ -180,10 +178,10 @@ void gather_group(uint p)
     vec3 z = f.normal.xyz, tx = f.tangent.xyz, o = f.pos_area.xyz;
     mat3 frame = mat3(tx, cross(z, tx), z);
     uint layer = p * 5u, l = gl_LocalInvocationID.x, texels = 3u * pc.res * pc.res;
-    uint count;
-    group_element(cp, 0u, count);
-    for (uint base = 0u; base < count; base += CROSS_UPDATE_GROUP) {
-        uint dummy, k = group_element(cp, base + l, dummy);
+    // Batches of a workgroup's worth of elements, while any is left (the
+    // same test for every invocation: the barriers below need all of them).
+    for (uint base = 0u; group_element(cp, base) != 0xffffffffu; base += CROSS_UPDATE_GROUP) {
+        uint k = group_element(cp, base + l);
         bool mine = k != 0xffffffffu && (elements[k].flags & GPU_ELEMENT_BURIED_ANY) == 0u;
         vec3 x = vec3(0.0), n = vec3(0.0, 0.0, 1.0), sum = vec3(0.0);
         if (mine) {
