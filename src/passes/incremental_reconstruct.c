@@ -67,7 +67,7 @@ void incremental_reconstruct_bind(struct xrad_context *ctx, incremental_reconstr
         [INCR_BINDING_VALUES] = {b->values, 0},
         [INCR_BINDING_POWER] = {b->power, 0},
         [INCR_BINDING_OLD_SURFACES] = {b->old_surfaces, 0},
-        [INCR_BINDING_B_BEFORE] = {b->b_before, 0},
+        [INCR_BINDING_M_LIGHT] = {b->m_light, 0},
         [INCR_BINDING_LUMINAIRES] = {b->luminaires, 0},
         [INCR_BINDING_IDS_OLD] = {NULL, b->ids_old},
         [INCR_BINDING_IDS_NEW] = {NULL, b->ids_new},
@@ -82,9 +82,9 @@ void incremental_reconstruct_record(incremental_reconstruct_pass *p, VkCommandBu
     struct incr_push push = {
         .mode = mode,
         .first = first,
-        .count = mode == INCR_MODE_POWER   ? q->surface_count
-                 : mode == INCR_MODE_RESET ? q->element_count
-                                           : count,
+        .count = mode == INCR_MODE_POWER                              ? q->surface_count
+                 : mode == INCR_MODE_RESET || mode == INCR_MODE_CLEAR ? q->element_count
+                                                                      : count,
         .element_count = q->element_count,
         .hemicube_res = q->hemicube_res,
         .neighbours = q->exact_texel_only ? 0u : 1u,
@@ -92,7 +92,8 @@ void incremental_reconstruct_record(incremental_reconstruct_pass *p, VkCommandBu
         .luminaires = q->luminaires ? 1u : 0u,
     };
     /* Shooting steps run one invocation per receiving element. */
-    uint32_t invocations = mode == INCR_MODE_NEGATIVE || mode == INCR_MODE_INCREMENT
+    uint32_t invocations = mode == INCR_MODE_NEGATIVE || mode == INCR_MODE_INCREMENT ||
+                                   mode == INCR_MODE_M_LIGHT || mode == INCR_MODE_RECEIVE_M
                                ? (count ? q->element_count : 0)
                                : push.count;
     gpu_kernel_dispatch(&p->kernel, cmd, 0, &push, invocations, INCR_GROUP);

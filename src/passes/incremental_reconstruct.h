@@ -31,9 +31,9 @@ typedef struct incremental_reconstruct_bindings {
     /* struct gpu_surface[surface_count] at the old pose: the occluders the
      * old hemicubes show (surfaces holds the new pose during INCREMENT). */
     const gpu_buffer *old_surfaces;
-    /* vec4[element_count]: B as the INCREMENT step found it (what M's
-     * elements take from C's elements near them, block by block). */
-    const gpu_buffer *b_before;
+    /* vec4[element_count]: M's light on each element of C at the new pose
+     * (M_LIGHT), which M takes with C's light. */
+    const gpu_buffer *m_light;
     /* vec4[element_count], host-written before each RESET where
      * params.luminaires: rho x the luminaires' direct light at the new pose
      * on M, its change from the old pose on C; else any buffer. */

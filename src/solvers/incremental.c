@@ -29,22 +29,34 @@
  *     each fixed patch of M's shot radiosity and shoot it negated to the
  *     elements of C through an ID hemicube at the patch's old front frame
  *     (dynamic_patches_pose), with the old form factor.
- *  2. gpu_scene_pose(new time); M back to its emission (line 6), with the
- *     luminaires' direct light at the new pose, and C's elements take the
- *     change in theirs as unshot radiosity (solvers/luminaire_change.h).
- *  3. For every surface q of C (lines 7-20), its fixed patches (line 8);
- *     the GPU captures each patch's shot, unshot and total area means,
- *     then clears C's unshot radiosity (line 9). Per patch s two ID
- *     hemicubes with the same frame, one drawn with the old vertices and
- *     one with the new (lines 11-12; only M moved), and the
- *     reconstruction: elements of M receive rho F total where the new
- *     hemicube sees them (R_p(C, M) reshot, line 14), elements of C take
+ *  2. gpu_scene_pose(new time). M's patches at the new pose shoot their
+ *     radiosity of the old pose once more, not into C's solution but into
+ *     m_light: M's light on C at the new pose, which the progressive
+ *     iterations of step 4 give C anew, and what M will see of its own
+ *     light (M -> C -> M) in step 3.
+ *  3. M back to its emission (line 6), with the luminaires' direct light
+ *     at the new pose, and C's elements take the change in theirs as
+ *     unshot radiosity (solvers/luminaire_change.h). For every surface q
+ *     of C (lines 7-20), its fixed patches (line 8); the GPU captures each
+ *     patch's shot, unshot and total area means, then clears C's unshot
+ *     radiosity (line 9). Per patch s two ID hemicubes with the same
+ *     frame, one drawn with the old vertices and one with the new (lines
+ *     11-12; only M moved), and the reconstruction: elements of C take
  *     -shot, +total or +unshot as the two hemicubes say (line 17, R_p(C,
- *     C)). The patches of all surfaces of C are captured before any of
+ *     C)), and m_light once more reflected where the new hemicube sees
+ *     them. The patches of all surfaces of C are captured before any of
  *     them shoots, so their order does not matter; what C receives here is
- *     unshot radiosity the progressive iterations shoot on.
+ *     unshot radiosity the progressive iterations shoot on. Then, after
+ *     every patch of C (line 14 moved after line 17), the elements of M
+ *     receive rho F (B + m_light) of C's patches through new ID
+ *     hemicubes: R_p(C, M) reshot from C as it is at the new pose, with
+ *     M's light in it (incremental_reconstruct.comp c_light says what the
+ *     thesis's order lost: 0.63 of the CPU reference at a sliding box's
+ *     foot).
  *  4. Progressive iterations (desc.frame_shots): R_p(M, M) and the second
- *     part of R_p(M, C), as thesis 4.4.1 defers them.
+ *     part of R_p(M, C), as thesis 4.4.1 defers them. C does not shoot M
+ *     there: M took all of C's light in step 3 and is reset every frame
+ *     (spirv/reconstruct.comp form_factor).
  *
  * The shooters of C go through the GPU in chunks of at most CHUNK_MAX, each
  * chunk's hemicubes in two hemicube passes (old, new) of that many layers
@@ -97,7 +109,7 @@ typedef struct incremental {
     incremental_reconstruct_pass *pass;
     gpu_buffer prev_vertices; /* struct gpu_hemicube_vertex[vertex_count]: the old pose */
     gpu_buffer prev_surfaces; /* struct gpu_surface[surface_count]: the old pose */
-    gpu_buffer b_before;      /* vec4[element_count]: B as the INCREMENT step found it */
+    gpu_buffer m_light;       /* vec4[element_count]: M's light on C at the new pose */
     gpu_buffer shooters;      /* struct gpu_shooter[m_count + c_capacity], device */
     gpu_buffer staging;       /* the same, host-written, copied in per step */
     gpu_buffer values;        /* struct incr_value[m_count + c_capacity] */
@@ -126,7 +138,7 @@ static void destroy_state(xrad_solver *s, incremental *inc)
     gpu_buffer_destroy(s->ctx, &inc->shooters);
     gpu_buffer_destroy(s->ctx, &inc->prev_vertices);
     gpu_buffer_destroy(s->ctx, &inc->prev_surfaces);
-    gpu_buffer_destroy(s->ctx, &inc->b_before);
+    gpu_buffer_destroy(s->ctx, &inc->m_light);
     luminaire_change_destroy(s->ctx, &inc->lum);
     free(inc->fixed);
     inc->fixed = NULL;
@@ -200,8 +212,8 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
         (st = gpu_buffer_create(ctx,
                                 (VkDeviceSize)(gs->element_count ? gs->element_count : 1) *
                                     sizeof(vec4),
-                                storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEM_DEVICE,
-                                GPU_MEM_REDISTRIBUTION, &inc->b_before, err)) ||
+                                storage, GPU_MEM_DEVICE, GPU_MEM_REDISTRIBUTION, &inc->m_light,
+                                err)) ||
         (st = gpu_buffer_create(ctx, (VkDeviceSize)table * sizeof(struct gpu_shooter),
                                 storage | VK_BUFFER_USAGE_TRANSFER_DST_BIT, GPU_MEM_DEVICE,
                                 GPU_MEM_REDISTRIBUTION, &inc->shooters, err)) ||
@@ -247,7 +259,7 @@ static xrad_status create_state(xrad_solver *s, incremental *inc, xrad_error *er
                                  &(incremental_reconstruct_bindings){
                                      &gs->surfaces, &gs->elements, &gs->materials, &gs->B,
                                      &gs->Bu, &inc->shooters, &inc->values, &inc->power,
-                                     &inc->prev_surfaces, &inc->b_before, &inc->lum.buffer,
+                                     &inc->prev_surfaces, &inc->m_light, &inc->lum.buffer,
                                      hemicube_ids_view(inc->old_ids),
                                      hemicube_ids_view(inc->new_ids)});
     /* Per command buffer: two updates, and a hemicube and a reconstruct
@@ -470,7 +482,8 @@ static void record_upload(xrad_solver *s, incremental *inc, VkCommandBuffer cmd,
 
 /* One chunk, shooters [first, first + n): its ID hemicubes and the
  * reconstruction. NEGATIVE: M's patches at the old pose (the vertices
- * still holds it); INCREMENT: C's patches, old vertices and new. The
+ * still holds it); M_LIGHT: M's patches at the new pose; INCREMENT: C's
+ * patches, old vertices and new; RECEIVE_M: C's patches, new vertices. The
  * render pass orders each hemicube image after the previous chunk's
  * reconstruction read it. */
 static void record_chunk(xrad_solver *s, incremental *inc, VkCommandBuffer cmd, uint32_t mode,
@@ -491,6 +504,9 @@ static void record_chunk(xrad_solver *s, incremental *inc, VkCommandBuffer cmd, 
         hemicube_record(inc->old_ids, cmd, &old);
         hemicube_record(inc->new_ids, cmd, &d);
         s->stats.hemicubes += 2 * n;
+    } else if (mode == INCR_MODE_RECEIVE_M) {
+        hemicube_record(inc->new_ids, cmd, &d);
+        s->stats.hemicubes += n;
     } else {
         hemicube_record(inc->old_ids, cmd, &d);
         s->stats.hemicubes += n;
@@ -519,8 +535,9 @@ static xrad_status finish(xrad_solver *s, gpu_cmd *c, xrad_error *err)
 
 /* Shoots table entries [first, first + count) in chunks, as many chunks per
  * command buffer as HEMICUBES_PER_SUBMISSION allows. The first command
- * buffer starts with the step's preparation (upload, capture of what the
- * shooters shoot, and for INCREMENT the reset); NEGATIVE ends with the
+ * buffer starts with the step's preparation (upload; the capture of what
+ * the shooters shoot, and for INCREMENT the reset; for M_LIGHT the clear of
+ * m_light; for RECEIVE_M the capture of C's light with M's); NEGATIVE ends with the
  * static surfaces' total powers, once C has lost M's shot radiosity. */
 static xrad_status shoot(xrad_solver *s, incremental *inc, uint32_t mode, uint32_t first,
                          uint32_t count, xrad_error *err)
@@ -535,21 +552,21 @@ static xrad_status shoot(xrad_solver *s, incremental *inc, uint32_t mode, uint32
         gpu_timer_start(s->timer, c.cmd);
         if (prepare) {
             record_upload(s, inc, c.cmd, first, count, mode == INCR_MODE_NEGATIVE);
-            if (mode == INCR_MODE_INCREMENT && s->gs.element_count) {
-                /* B before any of this step writes it (the reset, C's
-                 * shots): M's elements read C's blocks there. The barrier
-                 * also orders this read before the reset's writes. */
-                VkBufferCopy b = {0, 0, (VkDeviceSize)s->gs.element_count * sizeof(vec4)};
-                vkCmdCopyBuffer(c.cmd, s->gs.B.buffer, inc->b_before.buffer, 1, &b);
-                gpu_memory_barrier(c.cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
-                                   VK_ACCESS_TRANSFER_WRITE_BIT,
-                                   VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
-                                   VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
-            }
             gpu_timer_begin(s->timer, c.cmd, "incr.update");
-            /* Line 8 (and line 4's shot radiosity): every shooter's values
-             * before any of this step's shots changes B or Bu. */
-            incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_CAPTURE, first, count);
+            if (mode == INCR_MODE_RECEIVE_M) {
+                /* What M takes from each patch of C: C's light now, with
+                 * M's (incremental_reconstruct.comp c_light). */
+                incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_CAPTURE_LIT, first,
+                                               count);
+            } else if (mode == INCR_MODE_M_LIGHT) {
+                /* M's radiosity as NEGATIVE captured it, shot into m_light
+                 * from the new pose. */
+                incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_CLEAR, 0, 0);
+            } else {
+                /* Line 8 (and line 4's shot radiosity): every shooter's
+                 * values before any of this step's shots changes B or Bu. */
+                incremental_reconstruct_record(inc->pass, c.cmd, INCR_MODE_CAPTURE, first, count);
+            }
             if (mode == INCR_MODE_INCREMENT) {
                 /* Lines 6 and 9, after the capture read C's Bu. */
                 compute_barrier(c.cmd);
@@ -591,8 +608,14 @@ static xrad_status redistribute(xrad_solver *s, incremental *inc, double time, x
      * gives M and adds to C as its change (incremental_reconstruct.comp). */
     if ((st = luminaire_change_pose(&inc->lum, s->scene, time, true, err)))
         return st;
-    /* Steps 2-3. */
-    return shoot(s, inc, INCR_MODE_INCREMENT, inc->m_count, inc->c_count, err);
+    /* Steps 2-3: M's light on C at the new pose, C's changes, then what M
+     * takes from C (line 14) with both. */
+    st = shoot(s, inc, INCR_MODE_M_LIGHT, 0, inc->m_count, err);
+    if (!st)
+        st = shoot(s, inc, INCR_MODE_INCREMENT, inc->m_count, inc->c_count, err);
+    if (!st)
+        st = shoot(s, inc, INCR_MODE_RECEIVE_M, inc->m_count, inc->c_count, err);
+    return st;
 }
 
 static xrad_status advance(xrad_solver *s, double time, xrad_error *err)

@@ -276,9 +276,11 @@ static void lit_room(xrad_context *ctx)
 /* The room with the box sliding under the light: incremental and cross
  * follow the luminaire's light frame by frame (the box's shadow crosses
  * the floor, its top and sides are lit as it goes). Solved at t = 0, 10
- * frames of 0.1 s to t = 1, then each method within surface_error 5% and
- * element p95 8% of the CPU reference at t = 1, as the static room is:
- *  - incremental, at once;
+ * frames of 0.1 s to t = 1, then each method within surface_error 3.5% and
+ * element p95 8% of the CPU reference at t = 1 (the static room: 5%):
+ *  - incremental, at once (0.026; its box takes back its own light on C
+ *    reflected once and twice, incremental_reconstruct.comp c_light: with
+ *    once alone 0.045, its bottom at 0.955);
  *  - cross at its defaults after one more frame at t = 1 (the box has
  *    stopped): a frame gathers M's light before its progressive
  *    iterations, so on the last moving frame the box's bottom showed the
@@ -334,7 +336,7 @@ static void moving_box(xrad_context *ctx)
             fprintf(stderr,
                     "moving box %-14s at t = 1: surface_error %.4f (surface %u) p95 %.4f\n",
                     runs[r].name, em.surface_error, em.worst_surface, em.p95);
-            CHECK(em.surface_error <= 0.05 && em.p95 <= 0.08,
+            CHECK(em.surface_error <= 0.035 && em.p95 <= 0.08,
                   "moving box, %s at t = 1: surface_error %.4f (surface %u), element p95 %.4f",
                   runs[r].name, em.surface_error, em.worst_surface, em.p95);
         }

@@ -46,10 +46,14 @@
  *    0.066), a light cut by a box side's plane seen from its centre
  *    (room 3: 0.087), a side seen edge-on drawn in no texel (room 3:
  *    0.045);
- *  - incremental (0.045, 0.05; measured 0.015-0.033 and 0.014-0.040): the
+ *  - incremental (0.045, 0.05; measured 0.011-0.034 and 0.014-0.041): the
  *    same, its first solve with its redistribution's visibility (p95 0.17
  *    in room 3), its moving box taking C's light by the patches' centres
- *    (0.14 in room 5);
+ *    (0.14 in room 5); and in rooms 1 and 3 issue 14's own 0.02
+ *    (INCREMENTAL_MOVER_ROOMS; measured 0.0129, 0.0113), which the moving
+ *    box met once it took C's light after C's changes, with its own light
+ *    on C (incremental_reconstruct.comp c_light; 0.0329 and 0.0203
+ *    before: its sides at 0.967 and 0.980);
  *  - cross (0.06, 0.05; measured 0.014-0.046 and 0.013-0.041): its
  *    restart without the near patches' blocks (p95 0.087, room 1), the
  *    light cut by the floating box's side (room 3: 0.106);
@@ -64,6 +68,8 @@
      : (m) == XRAD_METHOD_INCREMENTAL ? 0.045                                                     \
                                       : 0.04)
 #define GUARD_P95_MAX(m) 0.05
+/* Rooms whose moving box incremental holds to SURFACE_ERROR_MAX (above). */
+#define INCREMENTAL_MOVER_ROOMS(room) ((room) == 1 || (room) == 3)
 /* The worst element, relative to max(B_ref, 1e-3 x the scene's mean B_ref):
  * an element the reference leaves dark (closed in by a moving box) that a
  * method lights at the scene's mean is 1000 off. Cross's floor under room
@@ -294,6 +300,10 @@ static void room_test(xrad_context *ctx, uint32_t index, const xrad_method *meth
                   "room %u %s: surface_error %.4f (%s at %.4f of the reference), allowed %.2f",
                   index, mn, r.em.surface_error, r.worst, r.em.worst_ratio,
                   GUARD_SURFACE_ERROR_MAX(methods[k]));
+            if (methods[k] == XRAD_METHOD_INCREMENTAL && INCREMENTAL_MOVER_ROOMS(index))
+                CHECK(r.em.surface_error <= SURFACE_ERROR_MAX,
+                      "room %u %s: surface_error %.4f (%s at %.4f of the reference), allowed %.2f",
+                      index, mn, r.em.surface_error, r.worst, r.em.worst_ratio, SURFACE_ERROR_MAX);
             CHECK(r.em.p95 <= GUARD_P95_MAX(methods[k]), "room %u %s: element p95 %.4f, allowed %.2f",
                   index, mn, r.em.p95, GUARD_P95_MAX(methods[k]));
             CHECK(r.em.max <= GUARD_ELEMENT_MAX(methods[k]),
