@@ -276,7 +276,7 @@ void receive(uint e)
             continue;
         vec3 t = sh.tangent.xyz;
         vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
-        vec3 r;
+        vec3 r, m_seen = vec3(0.0);
         if (pc.mode == INCR_MODE_NEGATIVE) {
             if (!shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
                                      sh.pos_area.xyz, x, true, true))
@@ -324,15 +324,14 @@ void receive(uint e)
             // step's, which takes that bounce off C until the progressive
             // iterations shoot M's light again.
             if (is)
-                second += values[k].lit.rgb *
-                          (near ? shooting_quad(x, ne, surfaces[sh.surface], sh)
-                                : shooting_disk(d, cs, ce, sh.pos_area.w));
+                m_seen = values[k].lit.rgb;
         }
-        if (all(equal(r, vec3(0.0))))
+        if (all(equal(r, vec3(0.0))) && all(equal(m_seen, vec3(0.0))))
             continue;
         float ff = near ? shooting_quad(x, ne, surfaces[sh.surface], sh)
                         : shooting_disk(d, cs, ce, sh.pos_area.w);
         gathered += r * ff;
+        second += m_seen * ff;
     }
     if (pc.mode == INCR_MODE_INCREMENT)
         m_light[e].rgb += elements[e].albedo.rgb * second;

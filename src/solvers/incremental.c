@@ -551,7 +551,9 @@ static xrad_status shoot(xrad_solver *s, incremental *inc, uint32_t mode, uint32
             return st;
         gpu_timer_start(s->timer, c.cmd);
         if (prepare) {
-            record_upload(s, inc, c.cmd, first, count, mode == INCR_MODE_NEGATIVE);
+            /* RECEIVE_M's shooters are INCREMENT's, uploaded by it. */
+            record_upload(s, inc, c.cmd, first, mode == INCR_MODE_RECEIVE_M ? 0 : count,
+                          mode == INCR_MODE_NEGATIVE);
             gpu_timer_begin(s->timer, c.cmd, "incr.update");
             if (mode == INCR_MODE_RECEIVE_M) {
                 /* What M takes from each patch of C: C's light now, with
