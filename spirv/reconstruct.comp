@@ -69,6 +69,7 @@ layout(std430, binding = RECONSTRUCT_BINDING_BVH_ITEMS) readonly buffer BvhItems
 // with conserve on, against under 377 s before).
 #ifdef RECONSTRUCT_FAR
 const bool CONSERVE_FAR = true;
+#define SHOOTING_BUNDLE
 #else
 const bool CONSERVE_FAR = false;
 #endif
@@ -333,9 +334,22 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
         // nothing makes up for an occluder the texels miss: every quad is
         // tested (room 5's table side 1.031 of the CPU reference with the
         // texels' candidates alone, 1.015 with every quad).
+        // With far the quads are collected once for all the blocks
+        // (shooting_collect_bundle).
         if (surfaces[se].mesh == 0u && (cut || CONSERVE_FAR))
             ncand |= SHOOTING_EVERY_QUAD;
+#ifdef SHOOTING_BUNDLE
+        if (surfaces[se].mesh == 0u) {
+            vec3 q[4];
+            shooting_cell_quad(surfaces[sh.surface], sh.i0, sh.i1, sh.j0, sh.j1, q);
+            shooting_collect_bundle(q, x);
+        }
+        float f = near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
+        shooting_box_quad_count = SHOOTING_BOX_NONE;
+        return f;
+#else
         return near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
+#endif
     }
     if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
                           se + 1u, sh.pos_area.xyz, x, true))
