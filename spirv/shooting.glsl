@@ -377,8 +377,8 @@ bool shooting_bvh_hidden(vec3 c, vec3 x, bool quads_only)
 // receiver), collected once by shooting_collect_bundle: near_cells tests
 // up to SHOOTING_NEAR_BLOCKS^2 blocks of a patch from one receiver, with
 // conserve far every quad for each, and a walk of the hierarchy per block
-// made cornell-small's far solve 26.1 s on lavapipe, 21.7 s with the walk
-// once a bundle (on: 12.5 s). The segment tests of the bundle loop over
+// made cornell-small's far solve 25.9 s on lavapipe, 22.8 s with the walk
+// once a bundle (on: 12.2 s; README "Conservation of a shot"). The segment tests of the bundle loop over
 // these instead (shooting_segment_hidden). SHOOTING_BOX_NONE: none
 // collected (more than fit, or no bundle): the tests walk. Only where the
 // includer defines SHOOTING_BUNDLE (conserve far's SPIR-V): in the others
