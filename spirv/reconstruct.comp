@@ -114,7 +114,8 @@ uint buried_mask()
 // plain room. So the patch counts as up to SHOOTING_NEAR_BLOCKS per side
 // blocks of its elements, each with the exact form factor of its cells and the
 // mean unshot radiosity of its open elements as select left them (`shot`,
-// from the shooter's shot_first: a shot's group has one run per surface);
+// from the shooter's shot_first: a shot's group has one run per surface;
+// w the element's area, -1 where buried_mask() excludes it);
 // returned as the factor that gives that luminance with the patch's mean
 // radiosity, so that conservation and the transfer treat it as any other
 // form factor (the colour is the patch's). Visibility is each block's
@@ -134,16 +135,15 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
             bool partial = false;
             for (uint j = j0; j <= j1; j++) {
                 for (uint i = i0; i <= i1; i++) {
-                    uint k = j * sf.nu + i;
-                    gpu_element el = elements[sf.first_element + k];
-                    if ((el.flags & buried_mask()) != 0u && sf.patches_s == 0u) {
+                    vec4 v = shot[sh.shot_first + j * sf.nu + i];
+                    if (v.w < 0.0) {
                         partial = true;
                         continue;
                     }
-                    lum += el.pos_area.w * dot(shot[sh.shot_first + k].rgb, LUMA);
-                    area += el.pos_area.w;
+                    lum += v.w * dot(v.rgb, LUMA);
+                    area += v.w;
                     if (CONSERVE_FAR)
-                        middle += el.pos_area.w * cell_centroid(sf, i, j);
+                        middle += v.w * cell_centroid(sf, i, j);
                 }
             }
             // A block partly buried (the floor under a box standing on it)
@@ -158,10 +158,10 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
                     continue;
                 for (uint j = j0; j <= j1; j++) {
                     for (uint i = i0; i <= i1; i++) {
-                        uint k = j * sf.nu + i;
-                        if ((elements[sf.first_element + k].flags & buried_mask()) != 0u)
+                        vec4 v = shot[sh.shot_first + j * sf.nu + i];
+                        if (v.w < 0.0)
                             continue;
-                        float l = dot(shot[sh.shot_first + k].rgb, LUMA);
+                        float l = dot(v.rgb, LUMA);
                         float f = shooting_cells(x, ne, sf, i, i, j, j);
                         seen += f;
                         sum += f * l;

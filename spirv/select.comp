@@ -356,7 +356,11 @@ void main()
             make_shooter(s_group[j], 1u, 1u, 0u, patches + j, pc.shot_first + j * pc.group_elements);
     // Every patch has read its unshot radiosity before it is cleared; the
     // reconstruct pass's near field reads it element by element from `shot`
-    // (buried elements shoot nothing, as above).
+    // (buried elements shoot nothing, as above), with the element's area
+    // in w, -1 where buried: its blocks then read `shot` alone, and with
+    // the element's flags and area read from `elements` for every cell of
+    // every near block, cornell-small's progressive solve took 12.8 s on
+    // lavapipe against 11.8 s (farm-bench, medians of 3).
     memoryBarrierBuffer();
     barrier();
     gpu_surface sf = surfaces[s_surface];
@@ -365,7 +369,7 @@ void main()
     for (uint k = t; k < n; k += SELECT_GROUP) {
         uint e = sf.first_element + k;
         bool buried = !fixed_surface && (elements[e].flags & pc.buried_mask) != 0u;
-        shot[k] = buried ? vec4(0.0) : Bu[e];
+        shot[k] = buried ? vec4(0.0, 0.0, 0.0, -1.0) : vec4(Bu[e].rgb, elements[e].pos_area.w);
         Bu[e] = vec4(0.0);
     }
     for (uint q = t; q < joined * pc.group_elements; q += SELECT_GROUP) {
@@ -375,7 +379,8 @@ void main()
             continue;
         uint e = g.first_element + k;
         bool buried = (elements[e].flags & pc.buried_mask) != 0u;
-        shot[pc.shot_first + q] = buried ? vec4(0.0) : Bu[e];
+        shot[pc.shot_first + q] = buried ? vec4(0.0, 0.0, 0.0, -1.0)
+                                         : vec4(Bu[e].rgb, elements[e].pos_area.w);
         Bu[e] = vec4(0.0);
     }
 }

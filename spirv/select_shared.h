@@ -15,7 +15,8 @@
 #define SELECT_BINDING_POWER 3
 #define SELECT_BINDING_SHOOTERS 4
 #define SELECT_BINDING_STATUS 5
-#define SELECT_BINDING_SHOT 6 /* vec4[select_shot_capacity()]: the shot surfaces' Bu */
+#define SELECT_BINDING_SHOT 6 /* vec4[select_shot_capacity()]: the shot surfaces' Bu in rgb,
+                                 the element's area in w, -1 where buried (select.comp) */
 #define SELECT_BINDING_COUNT 7
 
 #define SELECT_POWER_GROUP 64u /* select_power.comp: one invocation per surface */
