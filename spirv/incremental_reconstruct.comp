@@ -188,10 +188,6 @@ void reset(uint e)
     }
 }
 
-// reconstruct.comp NEAR_BLOCKS_REACH2: how near, in patch sizes squared, M
-// sees a patch of C block by block.
-const float NEAR_REACH2 = 4.0;
-
 // What an element of M takes from a patch of C by blocks, each block's
 // visibility its own (reconstruct.comp near_cells): the sum over the
 // blocks of patch sh that the candidate occluders cand[0, ncand) leave
@@ -324,7 +320,7 @@ void receive(uint e)
             // room 3's floating box (tests/solvers/rooms.c) came out at
             // 0.976 on its -z side one frame after a solve that had it at
             // 0.998, the box not moved.
-            if ((near && NEAR_REACH2 * sh.pos_area.w > dot(d, d)) ||
+            if ((near && SHOOTING_NEAR_REACH2 * sh.pos_area.w > dot(d, d)) ||
                 shooting_straddles(x, ne, ce, surfaces[sh.surface], sh) ||
                 !shooting_visible_at(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
                                      sh.pos_area.xyz, x, true, false)) {

@@ -107,18 +107,18 @@ uint buried_mask()
                                  : GPU_ELEMENT_BURIED_ANY;
 }
 
-// Near a patch (NEAR_BLOCKS_REACH2 below) a receiver sees the radiosity
-// vary across it: a ceiling element by a wall sees the dark top
-// of the wall, not the wall's mean, and with the mean both the ceiling's
-// and the wall's edge rows came out 1.2-1.3 times the CPU reference's in a
-// plain room. So the patch counts as up to SHOOTING_NEAR_BLOCKS per side
-// blocks of its elements, each with the exact form factor of its cells and the
-// mean unshot radiosity of its open elements as select left them (`shot`,
-// from the shooter's shot_first: a shot's group has one run per surface;
-// w the element's area, -1 where buried_mask() excludes it);
-// returned as the factor that gives that luminance with the patch's mean
-// radiosity, so that conservation and the transfer treat it as any other
-// form factor (the colour is the patch's). Visibility is each block's
+// Near a patch (near_within below) a receiver sees the radiosity vary
+// across it: a ceiling element by a wall sees the dark top of the wall,
+// not the wall's mean, and with the mean both the ceiling's and the wall's
+// edge rows came out 1.2-1.3 times the CPU reference's in a plain room. So
+// the patch counts as up to SHOOTING_NEAR_BLOCKS per side blocks of its
+// elements, each with the exact form factor of its cells and the mean
+// unshot radiosity of its open elements as select left them (`shot`, from
+// the shooter's shot_first: a shot's group has one run per surface; w the
+// element's area, -1 where buried_mask() excludes it); returned as the
+// factor that gives that luminance with the patch's mean radiosity, so
+// that conservation and the transfer treat it as any other form factor
+// (the colour is the patch's). Visibility is each block's
 // (shooting_block_hidden, against the candidate occluders cand[0, ncand)).
 float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], uint ncand)
 {
@@ -234,22 +234,22 @@ vec4 norm_reduce(vec4 v, uint lane)
 }
 
 // How near, in patch sizes, a receiver sees a patch block by block
-// (near_cells) where the pass may (pc.near_blocks): r^2 < reach^2 x A_s.
-// Within two sizes the receiver still sees the radiosity vary across the
-// patch (a wall by a wall light takes the ceiling above the light mostly
-// from its nearer, darker edge) and the occluders beside it hide one part
-// and not another; at 1 (the patch's size) the rooms' box sides and the
-// wall beside a wall light came out 3-5% dark (tests/solvers/rooms.c,
-// progressive surface_error 0.024-0.051), at 2 within 1.8% but for one
-// room at 2.9%, for 1.2-1.5 times the frame time. Everywhere (every
-// receiver block by block) cost 2-3 times and did no better.
-const float NEAR_BLOCKS_REACH2 = 4.0;
+// (near_cells) where the pass may (pc.near_blocks): r^2 <
+// SHOOTING_NEAR_REACH2 x A_s, two sizes. Within two sizes the receiver
+// still sees the radiosity vary across the patch (a wall by a wall light
+// takes the ceiling above the light mostly from its nearer, darker edge)
+// and the occluders beside it hide one part and not another; at 1 (the
+// patch's size) the rooms' box sides and the wall beside a wall light came
+// out 3-5% dark (tests/solvers/rooms.c, progressive surface_error
+// 0.024-0.051), at 2 within 1.8% but for one room at 2.9%, for 1.2-1.5
+// times the frame time. Everywhere (every receiver block by block) cost
+// 2-3 times and did no better.
 
 // Whether a receiver at offset d from a patch of `area` is within the
 // blocks' reach, and whether x's tangent plane cuts patch sh (ce = -d . ne).
 bool near_within(vec3 d, float area)
 {
-    return pc.near_blocks != 0u && area * NEAR_BLOCKS_REACH2 > dot(d, d);
+    return pc.near_blocks != 0u && area * SHOOTING_NEAR_REACH2 > dot(d, d);
 }
 
 bool near_cut(vec3 x, vec3 ne, float ce, gpu_shooter sh)

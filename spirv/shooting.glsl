@@ -301,6 +301,12 @@ float shooting_cells(vec3 x, vec3 ne, gpu_surface sf, uint i0, uint i1, uint j0,
 // visible_blocks).
 const uint SHOOTING_NEAR_BLOCKS = 8u;
 
+// Within how many patch sizes (squared: r^2 < this x A_s) a receiver sees
+// a patch block by block: the progressive shots (reconstruct.comp
+// near_within says why two sizes) and the moving object's intake in
+// incremental's redistribution, which must see where the shots see.
+const float SHOOTING_NEAR_REACH2 = 4.0;
+
 #ifdef SHOOTING_BVH
 // ncand for shooting_front_hidden: test every surface, not candidates.
 // The texels towards x of a hemicube drawn from a centre behind x's plane
@@ -417,7 +423,9 @@ bool shooting_bundle_beside(gpu_surface s, vec3 q[4], vec3 x, float b)
 // (SHOOTING_EVERY_QUAD) that may hide a segment from quad q to x: whose
 // boxes meet the bundle's box (grown by a thousandth of its size against
 // rounding) and whose planes cut the bundle; SHOOTING_BOX_NONE where more
-// than SHOOTING_BOX_QUADS do.
+// than SHOOTING_BOX_QUADS do. The walk is shooting_bvh_hidden's with a box
+// for the segment; one walker for both would take the stack as an inout
+// array, copied in and out on each call of the walk every shot runs.
 void shooting_collect_bundle(vec3 q[4], vec3 x)
 {
     vec3 lo = min(min(min(q[0], q[1]), min(q[2], q[3])), x);
