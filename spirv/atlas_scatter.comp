@@ -1,7 +1,10 @@
 #version 450
 // Atlas scatter pass (src/passes/atlas_scatter.c): per-element values (B)
-// into the element texels of the radiosity atlas, alpha 1, which the
-// radiosity hemicubes and the display sample bilinearly (thesis 4.1).
+// into the element texels of the radiosity atlas, which the radiosity
+// hemicubes and the display sample bilinearly (thesis 4.1). Alpha is 1, 0
+// where the element is buried (radiosity.h): a filter that must not drag
+// free surface towards the dark samples under a box reads it
+// (hemicube_radiosity.frag, OPEN_ONLY).
 #extension GL_GOOGLE_include_directive : require
 #include "radiosity.h"
 #include "atlas_scatter_shared.h"
@@ -18,5 +21,6 @@ void main()
     uint e = gl_GlobalInvocationID.x;
     if (e >= pc.element_count)
         return;
-    imageStore(atlas, ivec2(elements[e].texel_x, elements[e].texel_y), vec4(values[e].rgb, 1.0));
+    float open = (elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u ? 0.0 : 1.0;
+    imageStore(atlas, ivec2(elements[e].texel_x, elements[e].texel_y), vec4(values[e].rgb, open));
 }

@@ -133,12 +133,13 @@ static xrad_status create_pipeline(hemicube_pass *p, xrad_error *err)
         {HEMICUBE_ATTR_IDS, 0, VK_FORMAT_R32G32_UINT,
          offsetof(struct gpu_hemicube_vertex, surface)},
     };
-    const uint32_t consts[3] = {p->shader_bilinear ? 1u : 0u, p->desc.cells ? 1u : 0u,
-                                p->desc.own_black ? 1u : 0u};
-    const VkSpecializationMapEntry entries[3] = {{0, 0, sizeof(uint32_t)},
+    const uint32_t consts[4] = {p->shader_bilinear ? 1u : 0u, p->desc.cells ? 1u : 0u,
+                                p->desc.own_black ? 1u : 0u, p->desc.open_only ? 1u : 0u};
+    const VkSpecializationMapEntry entries[4] = {{0, 0, sizeof(uint32_t)},
                                                  {1, sizeof(uint32_t), sizeof(uint32_t)},
-                                                 {2, 2 * sizeof(uint32_t), sizeof(uint32_t)}};
-    VkSpecializationInfo spec = {3, entries, sizeof(consts), consts};
+                                                 {2, 2 * sizeof(uint32_t), sizeof(uint32_t)},
+                                                 {3, 3 * sizeof(uint32_t), sizeof(uint32_t)}};
+    VkSpecializationInfo spec = {4, entries, sizeof(consts), consts};
     bool mv = p->path == HEMICUBE_PATH_MULTIVIEW;
     gpu_graphics_desc gd = {
         .vert = mv ? hemicube_multiview_vert_spv : hemicube_layered_vert_spv,

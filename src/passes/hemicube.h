@@ -109,6 +109,9 @@ typedef struct hemicube_desc {
     bool fp32;              /* radiosity: RGBA32F texels instead of RGBA16F */
     bool cells;             /* radiosity: each element's cell value (hemicube_radiosity.frag)
                                instead of bilinear between element samples */
+    bool open_only;         /* radiosity, bilinear: the cell value wherever one of the
+                               four samples is a buried element's (the atlas's alpha 0,
+                               atlas_scatter.comp; hemicube_radiosity.frag) */
     bool redistribution;    /* images count as GPU_MEM_REDISTRIBUTION, not render targets */
     bool own_black;         /* radiosity: a hemicube's own surface (its frame's `surface`,
                                not a group's) is drawn black: gather, whose hemicubes tilt

@@ -331,11 +331,15 @@ static xrad_status create_redistribution(xrad_solver *s, cross *c, xrad_error *e
                           .diameter = diameter,
                           .fp32 = d->radiosity_format == XRAD_RADIOSITY_FP32,
                           .redistribution = true};
-    /* One sample, as the thesis's combined ID + radiosity hemicube (5.3.1). */
+    /* One sample, as the thesis's combined ID + radiosity hemicube (5.3.1).
+     * open_only: the floor strip at a box's foot was dragged towards the
+     * buried samples under the box, and the box's lower rows lit too
+     * little (hemicube_radiosity.frag). */
     hemicube_desc gather = {.kind = HEMICUBE_RADIOSITY, .res = d->hemicube_res,
                             .max_hemicubes = P, .msaa = 1, .path = HEMICUBE_PATH_AUTO,
                             .diameter = diameter,
                             .fp32 = d->radiosity_format == XRAD_RADIOSITY_FP32,
+                            .open_only = true,
                             .redistribution = true};
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT |
                                        VK_BUFFER_USAGE_TRANSFER_DST_BIT;

@@ -20,6 +20,14 @@
  *    inside the uniform box (1e-3), 0 under the square, which lies above
  *    every direction within 15 degrees of the horizon from points inside
  *    its footprint.
+ *  - open_only (hemicube_desc): a slab lies on the floor over exactly one
+ *    floor element's cell, which is buried; every other floor element has
+ *    B = V, the rest 0. From the ceiling's centre the visible floor is
+ *    open cells only, so the gather is V (F_floor - F_top), F_top the
+ *    slab's top as a parallel square (B-3 again). Plain bilinear drags the
+ *    strip round the slab towards the buried sample's 0 and gathers less;
+ *    without buried elements open_only gives plain bilinear's sums to the
+ *    bit.
  */
 #include <stdio.h>
 #include <string.h>
@@ -82,11 +90,13 @@ static struct gpu_shooter to_shooter(const frame *f)
     return sh;
 }
 
-/* B -> atlas, n radiosity hemicubes, integrate; sums[h] rgb, and with
- * `ring` ring[h] the horizon ring's mean radiosity. */
-static xrad_status gather_ring(xrad_context *ctx, const xrad_scene *sc, const frame *frames,
-                               uint32_t n, uint32_t msaa, float scale, double sums[][3],
-                               double (*ring)[3])
+/* B -> atlas (b, or the scene's emission where NULL), n radiosity
+ * hemicubes (with open_only: hemicube_desc), integrate; sums[h] rgb, with
+ * `ring` ring[h] the horizon ring's mean radiosity, with `buried` each
+ * element's gpu_scene buried mark. */
+static xrad_status gather_with(xrad_context *ctx, const xrad_scene *sc, const frame *frames,
+                               uint32_t n, uint32_t msaa, float scale, bool open_only,
+                               const vec4 *b, double sums[][3], double (*ring)[3], uint8_t *buried)
 {
     xrad_error err = {0};
     gpu_scene gs = {0};
@@ -108,7 +118,12 @@ static xrad_status gather_ring(xrad_context *ctx, const xrad_scene *sc, const fr
         .msaa = msaa,
         .path = HEMICUBE_PATH_AUTO,
         .diameter = gs.diameter,
+        .open_only = open_only,
     };
+    if (buried)
+        memcpy(buried, gs.buried, gs.element_count);
+    if (b && (s = gpu_upload_buffer(ctx, &gs.B, 0, b, gs.element_count * sizeof(vec4), &err)))
+        goto done;
     if ((s = hemicube_create_desc(ctx, &hd, &hc, &err)) ||
         (s = integrate_create(ctx, RES, &ip, &err)) || (s = atlas_scatter_create(ctx, &sp, &err)) ||
         (s = gpu_buffer_create(ctx, sizeof(sh), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, GPU_MEM_UPLOAD,
@@ -165,6 +180,13 @@ done:
     hemicube_destroy(ctx, &hc);
     gpu_scene_destroy(ctx, &gs);
     return s;
+}
+
+static xrad_status gather_ring(xrad_context *ctx, const xrad_scene *sc, const frame *frames,
+                               uint32_t n, uint32_t msaa, float scale, double sums[][3],
+                               double (*ring)[3])
+{
+    return gather_with(ctx, sc, frames, n, msaa, scale, false, NULL, sums, ring, NULL);
 }
 
 static xrad_status gather_sums(xrad_context *ctx, const xrad_scene *sc, const frame *frames,
@@ -290,6 +312,108 @@ static void test_ring_empty(xrad_context *ctx)
     xrad_scene_destroy(&sc);
 }
 
+/* The unit box with a slab of side 0.25 and height SLAB_H lying on the
+ * floor over [0.375, 0.625]^2: the cell of the floor's middle element
+ * (density 4: samples 0.25 apart, cells half a spacing round them). */
+#define SLAB_H 0.05 /* as slab_json has it */
+static const char *slab_json =
+    ",{\"name\":\"slab\",\"surfaces\":["
+    "{\"name\":\"top\",\"material\":\"wall\",\"quad\":{\"origin\":[0.375,0.375,0.05],\"u\":[0.25,0,0],\"v\":[0,0.25,0]}},"
+    "{\"name\":\"bottom\",\"material\":\"wall\",\"quad\":{\"origin\":[0.375,0.375,0],\"u\":[0,0.25,0],\"v\":[0.25,0,0]}},"
+    "{\"name\":\"x0\",\"material\":\"wall\",\"quad\":{\"origin\":[0.375,0.375,0],\"u\":[0,0,0.05],\"v\":[0,0.25,0]}},"
+    "{\"name\":\"x1\",\"material\":\"wall\",\"quad\":{\"origin\":[0.625,0.375,0],\"u\":[0,0.25,0],\"v\":[0,0,0.05]}},"
+    "{\"name\":\"y0\",\"material\":\"wall\",\"quad\":{\"origin\":[0.375,0.375,0],\"u\":[0.25,0,0],\"v\":[0,0,0.05]}},"
+    "{\"name\":\"y1\",\"material\":\"wall\",\"quad\":{\"origin\":[0.375,0.625,0],\"u\":[0,0,0.05],\"v\":[0.25,0,0]}}"
+    "]}]}";
+
+static xrad_scene *load_box_slab(void)
+{
+    const double zero[3] = {0, 0, 0};
+    char box[2048], json[4096];
+    snprintf(box, sizeof box, box_json, zero[0], zero[1], zero[2], zero[0], zero[1], zero[2]);
+    size_t len = strlen(box);
+    CHECK(len > 2 && !strcmp(box + len - 2, "]}"), "the box's JSON ends its objects");
+    snprintf(json, sizeof json, "%.*s%s", (int)(len - 2), box, slab_json);
+    xrad_scene *sc = NULL;
+    xrad_error err = {0};
+    xrad_status s = xrad_scene_parse(json, strlen(json), "box-slab.json", &sc, &err);
+    CHECK(s == XRAD_OK, "parse: %s", err.message);
+    return sc;
+}
+
+static void test_open_only(xrad_context *ctx)
+{
+    xrad_scene *sc = load_box_slab();
+    if (!sc)
+        return;
+    const surface *floor = &sc->surfaces[0];
+    uint32_t n = sc->element_count, middle = floor->first_element + 2 * floor->nu + 2;
+    vec4 *b = calloc(n, sizeof(vec4));
+    uint8_t *buried = calloc(n, 1);
+    CHECK(b && buried, "out of memory");
+    CHECK(floor->nu == 5 && floor->nv == 5, "floor: %u x %u samples, want 5 x 5", floor->nu,
+          floor->nv);
+    if (!b || !buried || floor->nu != 5 || floor->nv != 5)
+        goto done;
+    const vec4 v = {2, 1, 0.5f, 0};
+    for (uint32_t e = floor->first_element; e < floor->first_element + 25; e++)
+        b[e] = e == middle ? (vec4){0, 0, 0, 0} : v;
+    const frame above[1] = {{{0.5, 0.5, 1}, {0, 0, -1}, 0}};
+    double open[1][3], plain[1][3];
+    if (gather_with(ctx, sc, above, 1, 4, 0.5f, true, b, open, NULL, buried) ||
+        gather_with(ctx, sc, above, 1, 4, 0.5f, false, b, plain, NULL, NULL))
+        goto done;
+    uint32_t floor_buried = 0;
+    for (uint32_t e = floor->first_element; e < floor->first_element + 25; e++)
+        floor_buried += buried[e] != 0;
+    CHECK(buried[middle] && floor_buried == 1,
+          "the slab buries the floor's middle element alone (%u buried)", floor_buried);
+    double f = 4 * f_corner(0.5, 0.5) - 4 * f_corner(0.125 / (1 - SLAB_H), 0.125 / (1 - SLAB_H));
+    const double vv[3] = {v.x, v.y, v.z};
+    double worst = 0, plain_low = 1;
+    for (int c = 0; c < 3; c++) {
+        worst = fmax(worst, fabs(open[0][c] - vv[c] * f) / (vv[c] * f));
+        plain_low = fmin(plain_low, (vv[c] * f - plain[0][c]) / (vv[c] * f));
+    }
+    fprintf(stderr, "slab on the floor, F = %.6f: open_only off by %.2e, plain bilinear %.2e low\n",
+            f, worst, plain_low);
+    CHECK(worst < 2e-3, "open_only: (%g %g %g), want %g x V", open[0][0], open[0][1], open[0][2],
+          f);
+    /* The case must show the filter: plain bilinear is darker by the strip. */
+    CHECK(plain_low > 5e-3, "plain bilinear only %.2e below V F", plain_low);
+done:
+    free(buried);
+    free(b);
+    xrad_scene_destroy(&sc);
+}
+
+/* Without buried elements open_only is plain bilinear, to the bit: B
+ * varying from element to element, hemicubes anywhere. */
+static void test_open_only_plain(xrad_context *ctx)
+{
+    const double one[3] = {1, 1, 1};
+    xrad_scene *sc = load_box(one, one);
+    if (!sc)
+        return;
+    vec4 *b = calloc(sc->element_count, sizeof(vec4));
+    CHECK(b != NULL, "out of memory");
+    double open[MAX_CUBES][3], plain[MAX_CUBES][3];
+    if (b) {
+        for (uint32_t e = 0; e < sc->element_count; e++)
+            b[e] = (vec4){(float)(1 + (e * 7919u) % 13), (float)(1 + (e * 104729u) % 7), 1, 0};
+        if (!gather_with(ctx, sc, uniform_frames, MAX_CUBES, 1, 1.0f / 16, true, b, open, NULL,
+                         NULL) &&
+            !gather_with(ctx, sc, uniform_frames, MAX_CUBES, 1, 1.0f / 16, false, b, plain, NULL,
+                         NULL))
+            for (int h = 0; h < MAX_CUBES; h++)
+                CHECK(!memcmp(open[h], plain[h], sizeof(open[h])),
+                      "hemicube %d: open_only (%.9g) against plain (%.9g) with nothing buried", h,
+                      open[h][0], plain[h][0]);
+    }
+    free(b);
+    xrad_scene_destroy(&sc);
+}
+
 int main(void)
 {
     xrad_context *ctx = gpu_test_context();
@@ -303,6 +427,8 @@ int main(void)
     test_uniform_box(ctx, 6.123292, 4, 2.5e-4);
     test_ceiling(ctx);
     test_ring_empty(ctx);
+    test_open_only(ctx);
+    test_open_only_plain(ctx);
     gpu_test_end(&ctx);
     return test_finish();
 }
