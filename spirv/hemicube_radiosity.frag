@@ -41,7 +41,7 @@ layout(constant_id = 0) const uint SHADER_BILINEAR = 0u;
 layout(constant_id = 1) const uint CELLS = 0u;
 // 1: the hemicube's own surface black (hemicube_desc.own_black, below).
 layout(constant_id = 2) const uint OWN_BLACK = 0u;
-// 1: bilinear over the open samples only (hemicube_desc.open_only, below).
+// 1: the cell value where a sample is buried (hemicube_desc.open_only, above).
 layout(constant_id = 3) const uint OPEN_ONLY = 0u;
 
 layout(push_constant) uniform Push { hemicube_push pc; };
