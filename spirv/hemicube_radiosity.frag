@@ -105,14 +105,14 @@ void main()
     vec2 uv = vec2(uvw.z > 0.0 ? uvw.x / uvw.z : tile.x, uvw.y);
     vec2 p = clamp(uv, tile.xy, tile.zw);
     vec3 b;
+    vec2 size = vec2(textureSize(atlas, 0));
+    ivec2 first = ivec2(floor(tile.xy * size)), last = ivec2(floor(tile.zw * size));
+    // The element whose cell holds the point: its texel, the nearest sample.
+    ivec2 cell = clamp(ivec2(floor(uv * size)), first, last);
     if (CELLS != 0u) {
-        vec2 size = vec2(textureSize(atlas, 0));
-        ivec2 first = ivec2(floor(tile.xy * size)), last = ivec2(floor(tile.zw * size));
-        b = texelFetch(atlas, clamp(ivec2(floor(uv * size)), first, last), 0).rgb;
+        b = texelFetch(atlas, cell, 0).rgb;
     } else {
-        vec2 size = vec2(textureSize(atlas, 0));
         vec2 t = p * size - 0.5;
-        ivec2 first = ivec2(floor(tile.xy * size)), last = ivec2(floor(tile.zw * size));
         ivec2 i0 = clamp(ivec2(floor(t)), first, last);
         ivec2 i1 = min(i0 + 1, last);
         // OPEN_ONLY: where one of the four samples is buried (alpha 0,
@@ -139,7 +139,7 @@ void main()
             }
         }
         if (OPEN_ONLY != 0u && open < 1.0)
-            b = texelFetch(atlas, clamp(ivec2(floor(uv * size)), first, last), 0).rgb;
+            b = texelFetch(atlas, cell, 0).rgb;
     }
     color = round_to_half(vec4(front * pc.scale * b, length(rel) * pc.depth_scale));
 }

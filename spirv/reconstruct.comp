@@ -233,8 +233,8 @@ vec4 norm_reduce(vec4 v, uint lane)
     return s_norm[0];
 }
 
-// How near, in patch sizes, a receiver sees a patch block by block
-// (near_cells) where the pass may (pc.near_blocks): r^2 <
+// Whether a receiver at offset d from a patch of `area` sees it block by
+// block (near_cells) where the pass may (pc.near_blocks): r^2 <
 // SHOOTING_NEAR_REACH2 x A_s, two sizes. Within two sizes the receiver
 // still sees the radiosity vary across the patch (a wall by a wall light
 // takes the ceiling above the light mostly from its nearer, darker edge)
@@ -244,14 +244,12 @@ vec4 norm_reduce(vec4 v, uint lane)
 // 0.024-0.051), at 2 within 1.8% but for one room at 2.9%, for 1.2-1.5
 // times the frame time. Everywhere (every receiver block by block) cost
 // 2-3 times and did no better.
-
-// Whether a receiver at offset d from a patch of `area` is within the
-// blocks' reach, and whether x's tangent plane cuts patch sh (ce = -d . ne).
 bool near_within(vec3 d, float area)
 {
     return pc.near_blocks != 0u && area * SHOOTING_NEAR_REACH2 > dot(d, d);
 }
 
+// Whether x's tangent plane cuts patch sh (ce = -d . ne).
 bool near_cut(vec3 x, vec3 ne, float ce, gpu_shooter sh)
 {
     return pc.near_blocks != 0u && shooting_straddles(x, ne, ce, surfaces[sh.surface], sh);

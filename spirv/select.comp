@@ -249,6 +249,14 @@ bool joins(uint i, uint s, float p, float max_power)
            patch_counts(sf, power[i], max_power) == uvec2(1u);
 }
 
+// What the reconstruct pass reads of element e's shot (`shot`): its unshot
+// radiosity and its area, (0, 0, 0, -1) where it is buried and shoots
+// nothing (main() says why the area travels with it).
+vec4 shot_copy(uint e, bool buried)
+{
+    return buried ? vec4(0.0, 0.0, 0.0, -1.0) : vec4(Bu[e].rgb, elements[e].pos_area.w);
+}
+
 void main()
 {
     uint t = gl_LocalInvocationIndex;
@@ -368,8 +376,7 @@ void main()
     bool fixed_surface = sf.patches_s != 0u;
     for (uint k = t; k < n; k += SELECT_GROUP) {
         uint e = sf.first_element + k;
-        bool buried = !fixed_surface && (elements[e].flags & pc.buried_mask) != 0u;
-        shot[k] = buried ? vec4(0.0, 0.0, 0.0, -1.0) : vec4(Bu[e].rgb, elements[e].pos_area.w);
+        shot[k] = shot_copy(e, !fixed_surface && (elements[e].flags & pc.buried_mask) != 0u);
         Bu[e] = vec4(0.0);
     }
     for (uint q = t; q < joined * pc.group_elements; q += SELECT_GROUP) {
@@ -378,9 +385,7 @@ void main()
         if (k >= g.nu * g.nv)
             continue;
         uint e = g.first_element + k;
-        bool buried = (elements[e].flags & pc.buried_mask) != 0u;
-        shot[pc.shot_first + q] = buried ? vec4(0.0, 0.0, 0.0, -1.0)
-                                         : vec4(Bu[e].rgb, elements[e].pos_area.w);
+        shot[pc.shot_first + q] = shot_copy(e, (elements[e].flags & pc.buried_mask) != 0u);
         Bu[e] = vec4(0.0);
     }
 }
