@@ -832,12 +832,15 @@ typedef struct xrad_solver_desc {
      * mean of what the patch hides rather than a few texels of it; levels
      * halve back_res while it stays even. OFF: level 0 alone. */
     uint32_t back_mips;
-    /* cross: XRAD_CROSS_REGATHER_ON gathers M's light again after each
-     * frame's progressive iterations, from C as they left it, so that a
-     * moving object shows its surroundings of this frame rather than the
-     * last (one more gather hemicube per patch and M's passes; what M
-     * shoots to C is the redistribution's either way). OFF (default):
-     * M's light is gathered once per frame, before the iterations. */
+    /* cross: when the moving objects M gather their light from C.
+     * XRAD_CROSS_REGATHER_AFTER (default): once a frame, after its
+     * progressive iterations, from C as they left it, so that a moving
+     * object shows its surroundings of this frame; what M shoots to C in
+     * a frame is its light of the last frame's gather, moved with it.
+     * OFF: once, before the iterations (the thesis's order): M shows its
+     * surroundings a frame late. ON: both, M's light gathered at the new
+     * pose for what it shoots to C too (a gather hemicube per patch and
+     * M's passes more a frame). */
     uint32_t cross_regather;
     /* Progress of the long parts, on the calling thread: gather's direct
      * light (at create) and its bounces, progressive's shots (per batch;
@@ -874,6 +877,7 @@ enum {
 enum {
     XRAD_CROSS_REGATHER_OFF = 1,
     XRAD_CROSS_REGATHER_ON = 2,
+    XRAD_CROSS_REGATHER_AFTER = 3,
 };
 
 enum {

@@ -43,7 +43,7 @@ static const struct {
     {"cross_cut", "0.001,0.01", M_CROSS},
     {"cross_pairs", "off,on", M_CROSS},
     {"back_mips", "off,on", M_CROSS},
-    {"cross_regather", "off,on", M_CROSS},
+    {"cross_regather", "off,after,on", M_CROSS},
     {"back_res", "8,16,32", M_CROSS},
     {"back_msaa", "1,4", M_CROSS},
     {"radiosity_format", "fp16,fp32", M_GATHER | M_CROSS},

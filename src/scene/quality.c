@@ -113,9 +113,10 @@ static const setting settings[] = {
       XRAD_SETTING_CHOICE, XRAD_BACK_MIPS_OFF, 1, 2, "off|on", 0},
      SOLVER(back_mips), RULE_NONE},
     {{"cross_regather",
-      "cross: gather the moving objects' light again after each frame's progressive "
-      "iterations (M shows this frame's surroundings, not the last frame's)",
-      XRAD_SETTING_CHOICE, XRAD_CROSS_REGATHER_OFF, 1, 2, "off|on", 0},
+      "cross: when moving objects gather their light: after each frame's progressive "
+      "iterations (this frame's surroundings; they shoot the last frame's gather), off "
+      "(before them: a frame late), on (both: twice the gather hemicubes)",
+      XRAD_SETTING_CHOICE, XRAD_CROSS_REGATHER_AFTER, 1, 3, "off|on|after", 0},
      SOLVER(cross_regather), RULE_NONE},
     {{"density_scale", "every element density of the scene file times this (at load)",
       XRAD_SETTING_REAL, 1, 0, 16, NULL, 1},
@@ -320,10 +321,10 @@ static const struct {
     /*        res msaa id  subdiv max  thresh unshot batch shots grid grid_ff cut back bmsaa fmt
                                                                      amb cons cull pairs mips regather density
                                                                      adaptive: levels lower upper */
-    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 0, 8, 1, 1, 2, 1, 0, 1, 1, 1, 0.5, 0, 0.02, 0.98}},
-    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 0, 16, 4, 1, 2, 1, 0, 1, 1, 1, 1, 0, 0.02, 0.98}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 3, 0, 1, 1, 2, 1, 0, 0.02, 0.98}},
-    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 3, 0, 1, 1, 2, 2, 0, 0.02, 0.98}},
+    {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 0, 8, 1, 1, 2, 1, 0, 1, 1, 3, 0.5, 0, 0.02, 0.98}},
+    {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 0, 16, 4, 1, 2, 1, 0, 1, 1, 3, 1, 0, 0.02, 0.98}},
+    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 3, 0, 1, 1, 3, 1, 0, 0.02, 0.98}},
+    {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 3, 0, 1, 1, 3, 2, 0, 0.02, 0.98}},
 };
 
 const char *xrad_quality_preset_list(void)

@@ -34,8 +34,17 @@
  *   6. Progressive iterations (solvers/progressive.h), desc.frame_shots,
  *      on C alone: their hemicubes do not draw M, and M shoots nothing in
  *      them (its light is in its patches' totals, step 5).
- *   7. With cross_regather on: steps 1, 3 and 4 again (regather_m), so
- *      that M's own light follows C as step 6 left it.
+ *   7. With cross_regather after (the default) or on: steps 1, 3 and 4
+ *      again (regather_m), so that M's own light follows C as step 6 left
+ *      it. With after, a frame's redistribution leaves steps 3 and 4 out:
+ *      step 5 shoots the totals the last frame's step 7 left (M's light
+ *      of the last pose, moved with M), and a frame costs one gather as
+ *      in the thesis's order (off), where M showed its surroundings a
+ *      frame late (room 1's sliding box of tests/solvers/rooms.c 0.955 of
+ *      the CPU reference on the side it leaves behind after three 33 ms
+ *      frames, 0.987 with after; on, both gathers, costs 1.27 times a
+ *      frame on cornell-large and came out within 0.003 of after's
+ *      surface_error on the generic rooms).
  *
  * Why step 6 leaves M out (thesis 3.3.4: "if the shot radiosity B^s
  * changes (for a patch in C) in between the redistribution iterations,
@@ -726,10 +735,12 @@ static xrad_status begin_reset(xrad_solver *s, cross *c, gpu_cmd *cmd, xrad_erro
     return XRAD_OK;
 }
 
-/* Steps 1-5, recorded and run at the pose the frames hold. With `measure`
+/* Steps 1-5 (3 and 4 with `gather`), recorded and run at the pose the
+ * frames hold. With `measure`
  * the reset is a submission of its own and the hemicubes take the scale it
  * measured (one host wait more); without, c->scale as it is. */
-static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error *err)
+static xrad_status record_run(xrad_solver *s, cross *c, bool measure, bool gather,
+                              xrad_error *err)
 {
     uint32_t n = s->gs.element_count, slice = s->desc.slice_elements;
     gpu_cmd cmd;
@@ -743,7 +754,8 @@ static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error
         gpu_timer_start(s->timer, cmd.cmd);
     }
     record_hemicubes(s, c, cmd.cmd);
-    record_m(s, c, cmd.cmd);
+    if (gather)
+        record_m(s, c, cmd.cmd);
     for (uint32_t first = 0; first < n;) {
         uint32_t count = slice && slice < n - first ? slice : n - first;
         if (slice) {
@@ -766,7 +778,8 @@ static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error
     return st;
 }
 
-/* Steps 1-5 at scene time t: one submission, or with desc.slice_elements,
+/* Steps 1-5 at scene time t (without `gather`, steps 3 and 4 left out:
+ * step 5 shoots the patches' totals as they are): one submission, or with desc.slice_elements,
  * one for the hemicubes and the gather and one per slice of step 5, each
  * waited for, so that another thread's work on the queue (a display) gets
  * in between. B^s of C does not change within it (thesis 3.3.4): nothing
@@ -783,7 +796,8 @@ static xrad_status record_run(xrad_solver *s, cross *c, bool measure, xrad_error
  * at the right scale. That is exact: step 5 adds the same change to B and Bu of
  * C, so the B - Bu - E the reset measures is the same the second time, and
  * the second step 5 replaces what the first inserted. */
-static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *err)
+static xrad_status redistribute(xrad_solver *s, cross *c, double t, bool gather,
+                                xrad_error *err)
 {
     struct gpu_shooter *f = c->frames.alloc.mapped;
     dynamic_patches_pose(s->scene, &c->dp, t, s->desc.seed, f + CROSS_FRAMES_FRONT * c->P,
@@ -798,7 +812,7 @@ static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *
     if (st)
         return st;
     bool measure = !c->scale_known;
-    st = record_run(s, c, measure, err);
+    st = record_run(s, c, measure, gather, err);
     if (st || measure) {
         c->scale_known = !st;
         return st;
@@ -808,18 +822,18 @@ static xrad_status redistribute(xrad_solver *s, cross *c, double t, xrad_error *
         return XRAD_OK;
     c->scale = want;
     s->stats.cross_rescaled++;
-    return record_run(s, c, false, err);
+    return record_run(s, c, false, gather, err);
 }
 
 /* M gathers again, at the same pose, from C as the frame's progressive
  * iterations left it (steps 1, 3 and 4; the ID hemicubes and the lights'
- * are the redistribution's). What M shoots to C stays the redistribution's
- * until the next one replaces it; this only brings M's own light up to
- * the frame: gathered before the frame changed C, a moving box's sides
- * showed the floor as it was a frame earlier (room 1's sliding box's -x
- * side at 0.955 of the CPU reference with 33 ms frames, 0.844 with 100 ms
- * ones). */
-static xrad_status regather_m(xrad_solver *s, cross *c, xrad_error *err)
+ * are the redistribution's). What M shot to C in this frame's step 5
+ * stays as it is; the totals this leaves are what the next frame's step 5
+ * shoots with cross_regather after. Gathered only before the frame
+ * changed C, a moving box's sides showed the floor as it was a frame
+ * earlier (room 1's sliding box's -x side at 0.955 of the CPU reference
+ * with 33 ms frames, 0.844 with 100 ms ones). */
+static xrad_status regather_once(xrad_solver *s, cross *c, xrad_error *err)
 {
     gpu_cmd cmd;
     xrad_status st = begin_reset(s, c, &cmd, err);
@@ -827,6 +841,24 @@ static xrad_status regather_m(xrad_solver *s, cross *c, xrad_error *err)
         return st;
     record_m(s, c, cmd.cmd);
     return run(s, &cmd, err);
+}
+
+/* The regather's reset measures C's light as the iterations left it; where
+ * the gather hemicubes' scale was off by more than SCALE_SLACK (a lamp of
+ * M came close to the floor in this frame, test_cross_scale.c), it is made
+ * again at the right scale, as redistribute() does: it sets M anew from C,
+ * so the second time replaces the first. */
+static xrad_status regather_m(xrad_solver *s, cross *c, xrad_error *err)
+{
+    xrad_status st = regather_once(s, c, err);
+    if (st)
+        return st;
+    double want = peak_scale(c);
+    if (want <= c->scale * SCALE_SLACK && want >= c->scale / SCALE_SLACK)
+        return XRAD_OK;
+    c->scale = want;
+    s->stats.cross_rescaled++;
+    return regather_once(s, c, err);
 }
 
 /* Nothing inserted yet: the start of a solve. */
@@ -856,9 +888,13 @@ static xrad_status solve(xrad_solver *s, xrad_error *err)
      * with these). Frames keep the linear rule (select.comp says why). */
     progressive_set_square_root_rule(c->prog, true);
     for (int round = 0; c->P && !st && round < SOLVE_ROUNDS; round++)
-        if (!(st = redistribute(s, c, s->desc.time, err)))
+        if (!(st = redistribute(s, c, s->desc.time, true, err)))
             st = progressive_run(s, c->prog, false, 0, err);
     progressive_set_square_root_rule(c->prog, false);
+    /* As a frame ends (step 7): M shows C as the last round left it, and
+     * with after, the first frame's step 5 shoots these totals. */
+    if (!st && c->P && s->desc.cross_regather != XRAD_CROSS_REGATHER_OFF)
+        st = regather_m(s, c, err);
     solver_collect_times(s);
     return st;
 }
@@ -868,13 +904,14 @@ static xrad_status advance(xrad_solver *s, double time, xrad_error *err)
     cross *c = s->impl;
     double t0 = solver_now_ms();
     xrad_status st = gpu_scene_pose(s->ctx, &s->gs, time, err);
+    bool after = s->desc.cross_regather == XRAD_CROSS_REGATHER_AFTER;
     if (!st && c->P)
-        st = redistribute(s, c, time, err);
+        st = redistribute(s, c, time, !after, err);
     if (st)
         return st;
     s->stats.redistribute_ms = solver_now_ms() - t0;
     st = progressive_run(s, c->prog, false, s->desc.frame_shots, err);
-    if (!st && c->P && s->desc.cross_regather == XRAD_CROSS_REGATHER_ON)
+    if (!st && c->P && s->desc.cross_regather != XRAD_CROSS_REGATHER_OFF)
         st = regather_m(s, c, err);
     solver_collect_times(s);
     return st;

@@ -24,6 +24,7 @@
 #define STEP 0.1
 #define MOVER_TOL 0.03
 #define C_TOL 1e-5
+#define C_AFTER_TOL 0.02
 
 static xrad_solver *advance_once(xrad_context *ctx, const xrad_scene *scene, uint32_t regather)
 {
@@ -50,9 +51,10 @@ static int dynamic_surface(const xrad_scene *scene, uint32_t k)
            o.dynamic;
 }
 
-/* The box's worst |ratio - 1| against the reference; -1 on failure. */
-static double mover_error(const xrad_scene *scene, const xrad_atlas *got, const xrad_atlas *ref,
-                          const char *what)
+/* The worst |ratio - 1| against the reference of the box's surfaces
+ * (dynamic 1) or of the rest (0); -1 on failure. */
+static double surface_error(const xrad_scene *scene, const xrad_atlas *got,
+                            const xrad_atlas *ref, const char *what, int dynamic)
 {
     xrad_error err = {0};
     xrad_element_metrics em;
@@ -64,9 +66,10 @@ static double mover_error(const xrad_scene *scene, const xrad_atlas *got, const 
     }
     double worst = 0;
     for (uint32_t k = 0; k < scene->surface_count; k++) {
-        if (!dynamic_surface(scene, k))
+        if (dynamic_surface(scene, k) != dynamic)
             continue;
-        printf("%s: %-10s %.4f\n", what, scene->surfaces[k].name, ratio[k]);
+        if (dynamic)
+            printf("%s: %-10s %.4f\n", what, scene->surfaces[k].name, ratio[k]);
         worst = fmax(worst, fabs(ratio[k] - 1));
     }
     free(ratio);
@@ -86,25 +89,43 @@ int main(void)
     CHECK(room.json && xrad_scene_parse(room.json, strlen(room.json), "room-1.json", &scene,
                                         &err) == XRAD_OK,
           "room 1: %s", err.message);
-    xrad_atlas ref = {0}, off = {0}, on = {0};
+    xrad_atlas ref = {0}, off = {0}, on = {0}, after = {0};
     if (scene && !xrad_atlas_create(scene, &ref, &err) && !xrad_atlas_create(scene, &off, &err) &&
-        !xrad_atlas_create(scene, &on, &err)) {
+        !xrad_atlas_create(scene, &on, &err) && !xrad_atlas_create(scene, &after, &err)) {
         xrad_reference_stats rst = {0};
         CHECK(xrad_reference_solve(scene, &(xrad_reference_desc){.time = ROOMS_T0 + STEP}, &ref,
                                    &rst, &err) == XRAD_OK,
               "reference: %s", err.message);
         xrad_solver *a = advance_once(ctx, scene, XRAD_CROSS_REGATHER_OFF);
         xrad_solver *b = a ? advance_once(ctx, scene, XRAD_CROSS_REGATHER_ON) : NULL;
-        if (b && !xrad_solver_read(a, &off, &err) && !xrad_solver_read(b, &on, &err)) {
-            double e_off = mover_error(scene, &off, &ref, "off");
-            double e_on = mover_error(scene, &on, &ref, "on");
-            printf("the box's worst surface off the reference: %.4f off, %.4f on\n", e_off, e_on);
+        xrad_solver *g = b ? advance_once(ctx, scene, XRAD_CROSS_REGATHER_AFTER) : NULL;
+        if (g && !xrad_solver_read(a, &off, &err) && !xrad_solver_read(b, &on, &err) &&
+            !xrad_solver_read(g, &after, &err)) {
+            double e_off = surface_error(scene, &off, &ref, "off", 1);
+            double e_on = surface_error(scene, &on, &ref, "on", 1);
+            double e_after = surface_error(scene, &after, &ref, "after", 1);
+            printf("the box's worst surface off the reference: %.4f off, %.4f on, %.4f after\n",
+                   e_off, e_on, e_after);
             CHECK(e_on >= 0 && e_on <= MOVER_TOL, "regather on: the box's worst surface %.4f "
                                                   "off the reference, allowed %.2f",
                   e_on, MOVER_TOL);
             CHECK(e_on >= 0 && e_on < e_off, "regather on: the box %.4f off, not closer than "
                                              "without (%.4f)",
                   e_on, e_off);
+            CHECK(e_after >= 0 && e_after <= MOVER_TOL, "regather after: the box's worst "
+                                                        "surface %.4f off the reference, "
+                                                        "allowed %.2f",
+                  e_after, MOVER_TOL);
+            CHECK(e_after >= 0 && e_after < e_off, "regather after: the box %.4f off, not "
+                                                   "closer than without (%.4f)",
+                  e_after, e_off);
+            double c_off = surface_error(scene, &off, &ref, "off", 0);
+            double c_after = surface_error(scene, &after, &ref, "after", 0);
+            printf("the rest's worst surface off the reference: %.4f off, %.4f after\n", c_off,
+                   c_after);
+            CHECK(c_after >= 0 && c_after <= C_AFTER_TOL, "regather after: C's worst surface "
+                                                          "%.4f off the reference, allowed %.3f",
+                  c_after, C_AFTER_TOL);
             double top = 0, diff = 0;
             uint32_t counted = 0;
             for (uint32_t e = 0; e < scene->element_count; e++) {
@@ -127,10 +148,12 @@ int main(void)
         }
         xrad_solver_destroy(&a);
         xrad_solver_destroy(&b);
+        xrad_solver_destroy(&g);
     }
     xrad_atlas_destroy(&ref);
     xrad_atlas_destroy(&off);
     xrad_atlas_destroy(&on);
+    xrad_atlas_destroy(&after);
     xrad_scene_destroy(&scene);
     rooms_free(&room);
     gpu_test_end(&ctx);

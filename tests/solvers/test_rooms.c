@@ -54,19 +54,20 @@
  *    box met once it took C's light after C's changes, with its own light
  *    on C (incremental_reconstruct.comp c_light; 0.0329 and 0.0203
  *    before: its sides at 0.967 and 0.980);
- *  - cross (0.045, 0.05; measured 0.012-0.034 and 0.014-0.042): its
+ *  - cross (0.03, 0.05; measured 0.013-0.029 and 0.014-0.042): its
  *    restart without the near patches' blocks (p95 0.087, room 1), the
  *    light cut by the floating box's side (room 3: 0.106), the gather
  *    hemicubes that light M reading the floor at the box's foot bilinearly
- *    towards the buried samples under it (room 1: 0.045, now 0.034, the
- *    rest the one-frame lag that cross_regather takes away);
+ *    towards the buried samples under it (room 1: 0.045, then 0.034), M
+ *    gathering before the frame's iterations (cross_regather off), its
+ *    sides a frame late (room 1: 0.034, now 0.015);
  *  - gather (issue 14's own 0.02, 0.05, image 0.01; measured 0.0013-0.0092,
  *    0.004-0.011, image 0.998-1.000): its stop after 3 bounces in a dark
  *    hall (ceiling 0.97), hemicubes reading the atlas bilinearly (a box
  *    side's bottom row 0.89-0.93), a small lamp in hemicube texels (p95
  *    0.136), all three before the direct pass and the cells (gather.c). */
 #define GUARD_SURFACE_ERROR_MAX(m)                                                                \
-    ((m) == XRAD_METHOD_CROSS         ? 0.045                                                     \
+    ((m) == XRAD_METHOD_CROSS         ? 0.03                                                      \
      : (m) == XRAD_METHOD_GATHER      ? 0.02                                                      \
      : (m) == XRAD_METHOD_INCREMENTAL ? 0.045                                                     \
                                       : 0.04)
