@@ -230,19 +230,28 @@ vec3 visible_blocks(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9
             // nearest M's side, and no conservation scales it back here
             // (cornell-large's rotating box 1.065 of the CPU reference on
             // its -w side, its bottom row 1.07-1.5). Visibility is the
-            // open cells' as one, from their middle.
-            if (partial) {
-                if (shooting_segment_hidden(middle / area, x, cand, ncand))
-                    continue;
-                for (uint j = j0; j <= j1; j++) {
-                    for (uint i = i0; i <= i1; i++) {
-                        uint e = sf.first_element + j * sf.nu + i;
-                        if ((elements[e].flags & GPU_ELEMENT_BURIED_ANY) == 0u)
-                            sum += c_light(e) * shooting_cells(x, ne, sf, i, i, j, j);
+            // open cells' as one, from their middle. One segment test and
+            // one form factor in the code for both kinds of block, as
+            // there (near_cells says what two cost).
+            vec3 q[4], from = middle / area;
+            shooting_cell_quad(sf, i0, i1, j0, j1, q);
+            if (!partial)
+                from = shooting_front_point(q, x, ne);
+            if (shooting_segment_hidden(from, x, cand, ncand))
+                continue;
+            uint ni = partial ? i1 - i0 + 1u : 1u, nj = partial ? j1 - j0 + 1u : 1u;
+            for (uint pj = 0u; pj < nj; pj++) {
+                for (uint pi = 0u; pi < ni; pi++) {
+                    vec3 light = b / area;
+                    if (partial) {
+                        uint e = sf.first_element + (j0 + pj) * sf.nu + i0 + pi;
+                        if ((elements[e].flags & GPU_ELEMENT_BURIED_ANY) != 0u)
+                            continue;
+                        light = c_light(e);
+                        shooting_cell_quad(sf, i0 + pi, i0 + pi, j0 + pj, j0 + pj, q);
                     }
+                    sum += light * shooting_point_to_quad(x, ne, q);
                 }
-            } else if (!shooting_block_hidden(sf, i0, i1, j0, j1, x, ne, cand, ncand)) {
-                sum += b / area * shooting_cells(x, ne, sf, i0, i1, j0, j1);
             }
         }
     }

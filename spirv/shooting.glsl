@@ -504,15 +504,16 @@ bool shooting_segment_hidden(vec3 c, vec3 x, uint cand[9], uint ncand)
     return false;
 }
 
-// Whether quad q is hidden from x (normal ne): the segment to x from the
-// middle of the quad's part in front of x's tangent plane crosses one of
+// The middle of quad q's part in front of x's tangent plane (normal ne),
+// whence shooting_front_hidden tests the segment to x; whether quad q is
+// hidden from x: the segment to x from that point crosses one of
 // the candidate occluders cand[0, ncand) (shooting_candidates), posed as
 // the hemicube that named them was drawn (SHOOTING_OCCLUDER). From the
 // part in front, not the quad's centre: a quad that the plane cuts lights
 // x from that part alone, and from a centre behind the plane the segment
 // to x runs through x's own object (a light cut by the plane of a floating
 // box's side lit its top rows at 0.87 of the CPU reference's).
-bool shooting_front_hidden(vec3 q[4], vec3 x, vec3 ne, uint cand[9], uint ncand)
+vec3 shooting_front_point(vec3 q[4], vec3 x, vec3 ne)
 {
     vec3 c = vec3(0.0);
     float count = 0.0;
@@ -528,8 +529,12 @@ bool shooting_front_hidden(vec3 q[4], vec3 x, vec3 ne, uint cand[9], uint ncand)
             count += 1.0;
         }
     }
-    c = count > 0.0 ? c / count : 0.25 * (q[0] + q[1] + q[2] + q[3]);
-    return shooting_segment_hidden(c, x, cand, ncand);
+    return count > 0.0 ? c / count : 0.25 * (q[0] + q[1] + q[2] + q[3]);
+}
+
+bool shooting_front_hidden(vec3 q[4], vec3 x, vec3 ne, uint cand[9], uint ncand)
+{
+    return shooting_segment_hidden(shooting_front_point(q, x, ne), x, cand, ncand);
 }
 
 // Whether the block [i0, i1] x [j0, j1] of sf is hidden from x (normal
