@@ -335,6 +335,7 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     vec3 t = sh.tangent.xyz;
     vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
     uint cand[9];
+    uint ncand = 0u;
     if (blocks) {
         // Cut by x's plane beyond the blocks' reach, every surface is a
         // candidate occluder (SHOOTING_EVERY_SURFACE says why); mesh faces
@@ -343,8 +344,7 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
         // its plane, takes the texels' candidates alone: every segment a
         // loop over the scene's surfaces made a 1280-face ball's shots 10
         // times dearer per element than an 80-face one's.
-        uint ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u,
-                                         cand);
+        ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u, cand);
         // With conserve far the blocks' form factors are not scaled, so
         // nothing makes up for an occluder the texels miss: every quad is
         // tested (room 5's table side 1.031 of the CPU reference with the
@@ -359,20 +359,24 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
             shooting_cell_quad(surfaces[sh.surface], sh.i0, sh.i1, sh.j0, sh.j1, q);
             shooting_collect_bundle(q, x);
         }
-        float f = near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
-        shooting_box_quad_count = SHOOTING_BOX_NONE;
-        return f;
-#else
-        return near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
 #endif
+    } else {
+        if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
+                              se + 1u, sh.pos_area.xyz, x, true))
+            return 0.0;
+        if (!near)
+            return shooting_disk(d, cs, ce, area);
+        if (!near_field)
+            return shooting_quad(x, ne, surfaces[sh.surface], sh);
     }
-    if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
-                          se + 1u, sh.pos_area.xyz, x, true))
-        return 0.0;
-    if (!near)
-        return shooting_disk(d, cs, ce, area);
-    return near_field ? near_cells(x, ne, surfaces[sh.surface], sh, cand, 0u)
-                      : shooting_quad(x, ne, surfaces[sh.surface], sh);
+    // The blocks with their own visibility, or (near_field) the centre's:
+    // one call, so that llvmpipe's lanes run near_cells' loops once
+    // (near_cells says what a second place cost).
+    float f = near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
+#ifdef SHOOTING_BUNDLE
+    shooting_box_quad_count = SHOOTING_BOX_NONE;
+#endif
+    return f;
 }
 
 void main()
