@@ -987,10 +987,11 @@ typedef struct xrad_solver_stats {
      * in groups) and on the lights, as created; a frame costs hemicubes
      * of each. */
     uint32_t cross_patches, cross_light_patches;
-    /* cross: redistributions made twice because the scale of the radiosity
-     * hemicubes, taken from the last one, was more than 16x off (C's light
-     * changed that much in a frame); a frame's redistribution otherwise has
-     * no host wait for it */
+    /* cross: redistributions (and, with cross_regather after or on, the
+     * gathers at a frame's end) made twice because the scale of the
+     * radiosity hemicubes, taken from the last one, was more than 16x off
+     * (C's light changed that much in a frame); a frame's redistribution
+     * otherwise has no host wait for it */
     uint32_t cross_rescaled;
     /* cross: (element of C, patch) pairs that see each other, whose rays
      * the cross projection traced, over the call; and those of them the

@@ -736,11 +736,10 @@ static xrad_status begin_reset(xrad_solver *s, cross *c, gpu_cmd *cmd, xrad_erro
 }
 
 /* Steps 1-5 (3 and 4 with `gather`), recorded and run at the pose the
- * frames hold. With `measure`
- * the reset is a submission of its own and the hemicubes take the scale it
- * measured (one host wait more); without, c->scale as it is. */
-static xrad_status record_run(xrad_solver *s, cross *c, bool measure, bool gather,
-                              xrad_error *err)
+ * frames hold. With `measure` the reset is a submission of its own and the
+ * hemicubes take the scale it measured (one host wait more); without,
+ * c->scale as it is. */
+static xrad_status record_run(xrad_solver *s, cross *c, bool measure, bool gather, xrad_error *err)
 {
     uint32_t n = s->gs.element_count, slice = s->desc.slice_elements;
     gpu_cmd cmd;
@@ -779,8 +778,9 @@ static xrad_status record_run(xrad_solver *s, cross *c, bool measure, bool gathe
 }
 
 /* Steps 1-5 at scene time t (without `gather`, steps 3 and 4 left out:
- * step 5 shoots the patches' totals as they are): one submission, or with desc.slice_elements,
- * one for the hemicubes and the gather and one per slice of step 5, each
+ * step 5 shoots the patches' totals as they are): one submission, or with
+ * desc.slice_elements, one for the hemicubes and the gather and one per
+ * slice of step 5, each
  * waited for, so that another thread's work on the queue (a display) gets
  * in between. B^s of C does not change within it (thesis 3.3.4): nothing
  * else is in those submissions, and the progressive iterations come after.
@@ -796,8 +796,7 @@ static xrad_status record_run(xrad_solver *s, cross *c, bool measure, bool gathe
  * at the right scale. That is exact: step 5 adds the same change to B and Bu of
  * C, so the B - Bu - E the reset measures is the same the second time, and
  * the second step 5 replaces what the first inserted. */
-static xrad_status redistribute(xrad_solver *s, cross *c, double t, bool gather,
-                                xrad_error *err)
+static xrad_status redistribute(xrad_solver *s, cross *c, double t, bool gather, xrad_error *err)
 {
     struct gpu_shooter *f = c->frames.alloc.mapped;
     dynamic_patches_pose(s->scene, &c->dp, t, s->desc.seed, f + CROSS_FRAMES_FRONT * c->P,

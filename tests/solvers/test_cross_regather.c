@@ -1,7 +1,7 @@
-/* Cross's cross_regather setting (src/solvers/cross.c, regather_m). A
- * redistribution gathers M's light from C as the last frame left it, so a
- * moving object shows the floor around it one frame late; with the
- * setting on, M gathers again after the frame's progressive iterations.
+/* Cross's cross_regather setting (src/solvers/cross.c, regather_m). With
+ * off, a redistribution gathers M's light from C as the last frame left
+ * it, so a moving object shows the floor around it one frame late; with
+ * on, M gathers again after the frame's progressive iterations.
  * Room 1 of the generic rooms (tests/solvers/rooms.c: a box sliding on the
  * floor beside a table), solved at ROOMS_T0 and advanced one 100 ms step,
  * against the CPU reference at the new pose:
@@ -12,7 +12,11 @@
  *    the box left lit a frame later than it shows);
  *  - on, the box's worst surface closer to the reference than off;
  *  - C the same either way (within 1e-5 of its largest value): what M
- *    shoots to C is the redistribution's, the regather changes M alone. */
+ *    shoots to C is the redistribution's, the regather changes M alone;
+ *  - after (the default: M gathers once, after the iterations, and the
+ *    redistribution shoots the totals of the last frame's gather): the box
+ *    within 3% (measured 0.985-1.006) and closer than off, and every
+ *    other surface within 2% (measured 0.0149 at worst, as off). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -53,8 +57,8 @@ static int dynamic_surface(const xrad_scene *scene, uint32_t k)
 
 /* The worst |ratio - 1| against the reference of the box's surfaces
  * (dynamic 1) or of the rest (0); -1 on failure. */
-static double surface_error(const xrad_scene *scene, const xrad_atlas *got,
-                            const xrad_atlas *ref, const char *what, int dynamic)
+static double surface_error(const xrad_scene *scene, const xrad_atlas *got, const xrad_atlas *ref,
+                            const char *what, int dynamic)
 {
     xrad_error err = {0};
     xrad_element_metrics em;
@@ -112,20 +116,19 @@ int main(void)
             CHECK(e_on >= 0 && e_on < e_off, "regather on: the box %.4f off, not closer than "
                                              "without (%.4f)",
                   e_on, e_off);
-            CHECK(e_after >= 0 && e_after <= MOVER_TOL, "regather after: the box's worst "
-                                                        "surface %.4f off the reference, "
-                                                        "allowed %.2f",
+            CHECK(e_after >= 0 && e_after <= MOVER_TOL,
+                  "regather after: the box's worst surface %.4f off the reference, allowed %.2f",
                   e_after, MOVER_TOL);
-            CHECK(e_after >= 0 && e_after < e_off, "regather after: the box %.4f off, not "
-                                                   "closer than without (%.4f)",
-                  e_after, e_off);
+            CHECK(e_after >= 0 && e_after < e_off,
+                  "regather after: the box %.4f off, not closer than without (%.4f)", e_after,
+                  e_off);
             double c_off = surface_error(scene, &off, &ref, "off", 0);
             double c_after = surface_error(scene, &after, &ref, "after", 0);
             printf("the rest's worst surface off the reference: %.4f off, %.4f after\n", c_off,
                    c_after);
-            CHECK(c_after >= 0 && c_after <= C_AFTER_TOL, "regather after: C's worst surface "
-                                                          "%.4f off the reference, allowed %.3f",
-                  c_after, C_AFTER_TOL);
+            CHECK(c_after >= 0 && c_after <= C_AFTER_TOL,
+                  "regather after: C's worst surface %.4f off the reference, allowed %.3f", c_after,
+                  C_AFTER_TOL);
             double top = 0, diff = 0;
             uint32_t counted = 0;
             for (uint32_t e = 0; e < scene->element_count; e++) {

@@ -39,11 +39,14 @@ static const char *scene_json =
     " \"camera\": {\"position\": [0, 3, 3], \"look_at\": [0, 0, 0],"
     "   \"fov_degrees\": 60, \"width\": 32, \"height\": 32}}";
 
-static xrad_solver *make(xrad_context *ctx, const xrad_scene *scene, double t,
-                         uint32_t regather, xrad_error *err)
+static xrad_solver *make(xrad_context *ctx, const xrad_scene *scene, double t, uint32_t regather,
+                         xrad_error *err)
 {
-    xrad_solver_desc d = {.method = XRAD_METHOD_CROSS, .time = t, .hemicube_res = 32,
-                          .msaa = 1, .cross_regather = regather};
+    xrad_solver_desc d = {.method = XRAD_METHOD_CROSS,
+                          .time = t,
+                          .hemicube_res = 32,
+                          .msaa = 1,
+                          .cross_regather = regather};
     xrad_solver *s = NULL;
     if (xrad_solver_create(ctx, scene, &d, &s, err) || xrad_solver_solve(s, err)) {
         xrad_solver_destroy(&s);
@@ -135,8 +138,7 @@ int main(void)
             printf("regather %-5s %s reflects %.5f moved 40 m -> 0.5 m, %.5f solved at 0.5 m\n",
                    modes[m].name, names[k], a, b);
             CHECK(b > 0.1 && fabs(a / b - 1) < tolerance[k],
-                  "regather %s: %s: moved %.5f against solved %.5f", modes[m].name, names[k], a,
-                  b);
+                  "regather %s: %s: moved %.5f against solved %.5f", modes[m].name, names[k], a, b);
         }
     }
     xrad_atlas_destroy(&moved);

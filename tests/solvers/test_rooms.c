@@ -66,10 +66,10 @@
  *    hall (ceiling 0.97), hemicubes reading the atlas bilinearly (a box
  *    side's bottom row 0.89-0.93), a small lamp in hemicube texels (p95
  *    0.136), all three before the direct pass and the cells (gather.c). */
-#define GUARD_SURFACE_ERROR_MAX(m)                                                                \
-    ((m) == XRAD_METHOD_CROSS         ? 0.03                                                      \
-     : (m) == XRAD_METHOD_GATHER      ? 0.02                                                      \
-     : (m) == XRAD_METHOD_INCREMENTAL ? 0.045                                                     \
+#define GUARD_SURFACE_ERROR_MAX(m)                                                                 \
+    ((m) == XRAD_METHOD_CROSS         ? 0.03                                                       \
+     : (m) == XRAD_METHOD_GATHER      ? 0.02                                                       \
+     : (m) == XRAD_METHOD_INCREMENTAL ? 0.045                                                      \
                                       : 0.04)
 #define GUARD_P95_MAX(m) 0.05
 /* Rooms whose moving box incremental holds to SURFACE_ERROR_MAX (above). */
