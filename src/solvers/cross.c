@@ -722,6 +722,19 @@ static double peak_scale(const cross *c)
     return top > 0 && isfinite(top) ? HEMICUBE_PEAK / top : 1.0;
 }
 
+/* Whether the scale the last reset measured (peak_scale) is more than
+ * SCALE_SLACK off c->scale, which then takes it: the work that used the
+ * old one is to be made again (stats.cross_rescaled). */
+static bool rescaled(xrad_solver *s, cross *c)
+{
+    double want = peak_scale(c);
+    if (want <= c->scale * SCALE_SLACK && want >= c->scale / SCALE_SLACK)
+        return false;
+    c->scale = want;
+    s->stats.cross_rescaled++;
+    return true;
+}
+
 /* A command buffer begun with step 1 recorded, c->peak zeroed for the
  * reset's measure. */
 static xrad_status begin_reset(xrad_solver *s, cross *c, gpu_cmd *cmd, xrad_error *err)
@@ -816,12 +829,7 @@ static xrad_status redistribute(xrad_solver *s, cross *c, double t, bool gather,
         c->scale_known = !st;
         return st;
     }
-    double want = peak_scale(c);
-    if (want <= c->scale * SCALE_SLACK && want >= c->scale / SCALE_SLACK)
-        return XRAD_OK;
-    c->scale = want;
-    s->stats.cross_rescaled++;
-    return record_run(s, c, false, gather, err);
+    return rescaled(s, c) ? record_run(s, c, false, gather, err) : XRAD_OK;
 }
 
 /* M gathers again, at the same pose, from C as the frame's progressive
@@ -852,12 +860,7 @@ static xrad_status regather_m(xrad_solver *s, cross *c, xrad_error *err)
     xrad_status st = regather_once(s, c, err);
     if (st)
         return st;
-    double want = peak_scale(c);
-    if (want <= c->scale * SCALE_SLACK && want >= c->scale / SCALE_SLACK)
-        return XRAD_OK;
-    c->scale = want;
-    s->stats.cross_rescaled++;
-    return regather_once(s, c, err);
+    return rescaled(s, c) ? regather_once(s, c, err) : XRAD_OK;
 }
 
 /* Nothing inserted yet: the start of a solve. */
