@@ -146,7 +146,9 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
             if (area == 0.0)
                 continue;
             // A block partly buried (the floor under a box standing on it)
-            // is its open cells one by one with conserve far: the block's
+            // is its open cells alone with conserve far, run by run along
+            // its rows (below; cell by cell, the same within 0.2% of any
+            // surface's light and 10% dearer on room 5): the block's
             // form factor with its open cells' mean lit the buried part too,
             // the part nearest the box's side, and no scaling now takes that
             // back (cornell-small's plinth.front 1.071 of the CPU reference).
@@ -175,23 +177,40 @@ float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], 
             // A block hidden from x by a candidate occluder gives nothing.
             if (shooting_segment_hidden(from, x, cand, ncand))
                 continue;
-            // The block with its open cells' mean, or each open cell with
-            // its own: one form factor call in the code, as above.
-            uint ni = cells ? i1 - i0 + 1u : 1u, nj = cells ? j1 - j0 + 1u : 1u;
+            // The block with its open cells' mean, or each run of open
+            // cells along a row with its own (a box's side cuts a row in
+            // at most two): one form factor call in the code, as above.
+            uint nj = cells ? j1 - j0 + 1u : 1u;
             for (uint pj = 0u; pj < nj; pj++) {
-                for (uint pi = 0u; pi < ni; pi++) {
-                    float l = lum / area;
+                uint j = j0 + pj, i = i0;
+                for (;;) {
+                    float l = lum / area, l_abs = abs(l);
                     if (cells) {
-                        vec4 v = shot[sh.shot_first + (j0 + pj) * sf.nu + i0 + pi];
-                        if (v.w < 0.0)
-                            continue;
-                        l = dot(v.rgb, LUMA);
-                        shooting_cell_quad(sf, i0 + pi, i0 + pi, j0 + pj, j0 + pj, q);
+                        while (i <= i1 && shot[sh.shot_first + j * sf.nu + i].w < 0.0)
+                            i++;
+                        if (i > i1)
+                            break;
+                        uint ia = i;
+                        float run_lum = 0.0, run_abs = 0.0, run_area = 0.0;
+                        for (; i <= i1; i++) {
+                            vec4 v = shot[sh.shot_first + j * sf.nu + i];
+                            if (v.w < 0.0)
+                                break;
+                            float c = dot(v.rgb, LUMA);
+                            run_lum += v.w * c;
+                            run_abs += v.w * abs(c);
+                            run_area += v.w;
+                        }
+                        l = run_lum / max(run_area, 1e-30);
+                        l_abs = run_abs / max(run_area, 1e-30);
+                        shooting_cell_quad(sf, ia, i - 1u, j, j, q);
                     }
                     float f = shooting_point_to_quad(x, ne, q);
                     seen += f;
                     sum += f * l;
-                    magnitude += f * abs(l);
+                    magnitude += f * l_abs;
+                    if (!cells)
+                        break;
                 }
             }
         }
