@@ -281,8 +281,10 @@ static void lit_room(xrad_context *ctx)
  *  - incremental, at once (0.026; its box takes back its own light on C
  *    reflected once and twice, incremental_reconstruct.comp c_light: with
  *    once alone 0.045, its bottom at 0.955);
- *  - cross at its defaults after one more frame at t = 1 (the box has
- *    stopped): a frame gathers M's light before its progressive
+ *  - cross at its defaults (cross_regather after: M gathers after each
+ *    frame's progressive iterations), at once;
+ *  - cross with cross_regather off after one more frame at t = 1 (the box
+ *    has stopped): a frame gathers M's light before its progressive
  *    iterations, so on the last moving frame the box's bottom showed the
  *    floor as the frame before left it (0.847 of the reference; with an
  *    area light of the same intensity in the luminaire's place, 0.77);
@@ -315,7 +317,8 @@ static void moving_box(xrad_context *ctx)
         int still; /* frames at t = 1 after the 10 */
     } runs[] = {
         {"incremental", XRAD_METHOD_INCREMENTAL, 0, 0},
-        {"cross", XRAD_METHOD_CROSS, 0, 1},
+        {"cross", XRAD_METHOD_CROSS, 0, 0},
+        {"cross off", XRAD_METHOD_CROSS, XRAD_CROSS_REGATHER_OFF, 1},
         {"cross regather", XRAD_METHOD_CROSS, XRAD_CROSS_REGATHER_ON, 0},
     };
     for (size_t r = 0; !st && r < sizeof(runs) / sizeof(runs[0]); r++) {
