@@ -119,7 +119,8 @@ uint buried_mask()
 // factor that gives that luminance with the patch's mean radiosity, so
 // that conservation and the transfer treat it as any other form factor
 // (the colour is the patch's). Visibility is each block's
-// (shooting_block_hidden, against the candidate occluders cand[0, ncand)).
+// (the segment from its part in front of x, shooting_front_point, against
+// the candidate occluders cand[0, ncand)).
 float near_cells(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9], uint ncand)
 {
     float mean = dot(sh.radiosity.rgb, LUMA);

@@ -537,16 +537,6 @@ bool shooting_front_hidden(vec3 q[4], vec3 x, vec3 ne, uint cand[9], uint ncand)
     return shooting_segment_hidden(shooting_front_point(q, x, ne), x, cand, ncand);
 }
 
-// Whether the block [i0, i1] x [j0, j1] of sf is hidden from x (normal
-// ne), as shooting_front_hidden says.
-bool shooting_block_hidden(gpu_surface sf, uint i0, uint i1, uint j0, uint j1, vec3 x, vec3 ne,
-                           uint cand[9], uint ncand)
-{
-    vec3 q[4];
-    shooting_cell_quad(sf, i0, i1, j0, j1, q);
-    return shooting_front_hidden(q, x, ne, cand, ncand);
-}
-
 // Whether the tangent plane of x (normal ne) cuts through quad q of area
 // `area`, ce = -d . ne the distance of the quad's centre from the plane:
 // the centre may then lie behind the plane, where what it sees says
