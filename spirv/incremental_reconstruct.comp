@@ -206,7 +206,7 @@ vec3 visible_blocks(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9
         uint j1 = min(j0 + bj - 1u, sh.j1);
         for (uint i0 = sh.i0; i0 <= sh.i1; i0 += bi) {
             uint i1 = min(i0 + bi - 1u, sh.i1);
-            vec3 b = vec3(0.0), middle = vec3(0.0);
+            vec3 b = vec3(0.0);
             float area = 0.0;
             bool partial = false;
             for (uint j = j0; j <= j1; j++) {
@@ -217,7 +217,6 @@ vec3 visible_blocks(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9
                         continue;
                     }
                     b += c_light(e) * elements[e].pos_area.w;
-                    middle += elements[e].pos_area.w * cell_centroid(sf, i, j);
                     area += elements[e].pos_area.w;
                 }
             }
@@ -233,10 +232,22 @@ vec3 visible_blocks(vec3 x, vec3 ne, gpu_surface sf, gpu_shooter sh, uint cand[9
             // open cells' as one, from their middle. One segment test and
             // one form factor in the code for both kinds of block, as
             // there (near_cells says what two cost).
-            vec3 q[4], from = middle / area;
+            // The middle is summed for a partly covered block alone, as
+            // near_cells does.
+            vec3 q[4], from = vec3(0.0);
             shooting_cell_quad(sf, i0, i1, j0, j1, q);
-            if (!partial)
+            if (partial) {
+                for (uint j = j0; j <= j1; j++) {
+                    for (uint i = i0; i <= i1; i++) {
+                        uint e = sf.first_element + j * sf.nu + i;
+                        if ((elements[e].flags & GPU_ELEMENT_BURIED_ANY) == 0u)
+                            from += elements[e].pos_area.w * cell_centroid(sf, i, j);
+                    }
+                }
+                from /= area;
+            } else {
                 from = shooting_front_point(q, x, ne);
+            }
             if (shooting_segment_hidden(from, x, cand, ncand))
                 continue;
             uint ni = partial ? i1 - i0 + 1u : 1u, nj = partial ? j1 - j0 + 1u : 1u;
