@@ -797,15 +797,18 @@ typedef struct xrad_solver_desc {
      * radiosity (Cohen et al. 1988) to B (progressive, incremental, cross);
      * default 0 = OFF. */
     uint32_t ambient;
-    /* progressive shots (all methods but gather): XRAD_CONSERVE_ON (default
-     * 0) scales a shooter's form factors so that its receivers take what it
-     * sends (point form factors and nearest-texel visibility take more or
-     * less). XRAD_CONSERVE_FAR (the high and reference presets) scales only
-     * the receivers that see the shooter by its centre's visibility: those
-     * that see it block by block (near it, or cut by its plane) keep their
-     * exact form factors, each block's visibility tested against every
-     * quad; more accurate, and 1.4-2.4 times a progressive solve's time
-     * (README "Conservation of a shot"). */
+    /* progressive shots (all methods but gather): XRAD_CONSERVE_ON (the
+     * draft and interactive presets) scales a shooter's form factors so
+     * that its receivers take what it sends (point form factors and
+     * nearest-texel visibility take more or less). XRAD_CONSERVE_FAR (the
+     * high and reference presets) scales only the receivers that see the
+     * shooter by its centre's visibility: those that see it block by block
+     * (near it, or cut by its plane) keep their exact form factors, each
+     * block's visibility tested against every quad; more accurate, and
+     * 1.5-1.8 times the shots' time (README "Conservation of a shot").
+     * XRAD_CONSERVE_AUTO (default 0): FAR for the solves (progressive's,
+     * and incremental's and cross's first), ON for the shots of
+     * xrad_solver_advance's frames. */
     uint32_t conserve;
     /* progressive shots (all methods but gather) and gather's hemicubes:
      * XRAD_CULL_ON leaves out of each draw of hemicubes the clusters of
@@ -855,6 +858,7 @@ enum {
     XRAD_CONSERVE_ON = 1,
     XRAD_CONSERVE_OFF = 2,
     XRAD_CONSERVE_FAR = 3,
+    XRAD_CONSERVE_AUTO = 4,
 };
 
 enum {

@@ -93,8 +93,8 @@ static const setting settings[] = {
     {{"conserve",
       "progressive shots: a shooter's receivers take what it sends (form factors scaled "
       "where they would take more or less); far: only those that see it by its centre, the "
-      "near blocks exact",
-      XRAD_SETTING_CHOICE, XRAD_CONSERVE_ON, 1, 3, "on|off|far", 0},
+      "near blocks exact; auto: far for the solves, on for incremental's and cross's frames",
+      XRAD_SETTING_CHOICE, XRAD_CONSERVE_AUTO, 1, 4, "on|off|far|auto", 0},
      SOLVER(conserve), RULE_NONE},
     {{"cull",
       "leave out of a draw of hemicubes what none of them can see (clusters behind every "
