@@ -47,7 +47,6 @@ struct progressive {
     select_pass *select;
     hemicube_pass *hemicube;
     reconstruct_pass *reconstruct;
-    reconstruct_pass *reconstruct_first; /* NULL, or the restart's own (conserve auto) */
     gpu_buffer shooters; /* struct gpu_shooter[max_shooters] */
     gpu_buffer ff, norm; /* the reconstruct pass's conservation (reconstruct.h) */
     gpu_buffer shot;     /* the shot surface's Bu by element (select.h) */
@@ -59,7 +58,6 @@ struct progressive {
     bool static_only;
     bool redistributed; /* PROGRESSIVE_REDISTRIBUTED */
     bool square_root;   /* progressive_set_square_root_rule */
-    bool restarted;     /* the shots since the last restart are its solve */
     select_params select_params;
     reconstruct_params reconstruct_params;
     uint32_t recorded_index_count; /* the host count the last shot's hemicubes drew */
@@ -97,7 +95,6 @@ void progressive_destroy(xrad_solver *s, progressive **engine)
     if (!p)
         return;
     reconstruct_destroy(s->ctx, &p->reconstruct);
-    reconstruct_destroy(s->ctx, &p->reconstruct_first);
     hemicube_cull_destroy(s->ctx, &p->cull);
     gpu_buffer_destroy(s->ctx, &p->commands);
     hemicube_destroy(s->ctx, &p->hemicube);
@@ -140,19 +137,17 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
      * the single-pass transfer. */
     uint64_t ff_bytes = (uint64_t)p->max_shooters * (gs->element_count ? gs->element_count : 1) *
                         sizeof(float);
-    /* auto: far for the solves (progressive's, the dynamic methods' first),
-     * on for the shots of the dynamic methods' frames, whose time is the
-     * real-time budget: far there made incremental's frames in room 1 of
-     * tests/solvers/rooms.c 1.1-1.16 times as long (README "Conservation
-     * of a shot"). */
+    /* auto: far for progressive; on for incremental and cross, whose frames
+     * shoot too (far made incremental's frames in room 1 of
+     * tests/solvers/rooms.c 1.1-1.16 times as long), and whose first solve
+     * alone with far, its frames with on, left cross's C in room 1 2.0% off
+     * where on throughout has it 1.5% (README "far for progressive"). */
     bool automatic = s->desc.conserve == 0 || s->desc.conserve == XRAD_CONSERVE_AUTO;
-    bool frames = s->desc.method != XRAD_METHOD_PROGRESSIVE;
+    bool far = s->desc.conserve == XRAD_CONSERVE_FAR ||
+               (automatic && s->desc.method == XRAD_METHOD_PROGRESSIVE);
     bool conserve = s->desc.conserve != XRAD_CONSERVE_OFF && ff_bytes <= MAX_FF_BYTES &&
                     ff_bytes <= ctx->props.limits.maxStorageBufferRange;
-    bool far = s->desc.conserve == XRAD_CONSERVE_FAR || (automatic && !frames);
-    if ((st = reconstruct_create(ctx, conserve && far, &p->reconstruct, err)) ||
-        (conserve && automatic && frames &&
-         (st = reconstruct_create(ctx, true, &p->reconstruct_first, err))))
+    if ((st = reconstruct_create(ctx, conserve && far, &p->reconstruct, err)))
         goto fail;
     if ((st = gpu_buffer_create(ctx, conserve ? ff_bytes : 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                 GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &p->ff, err)) ||
@@ -197,14 +192,11 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
     select_bind(ctx, p->select,
                 &(select_buffers){&gs->surfaces, &gs->elements, &gs->Bu, &p->shooters,
                                   &p->status, &p->shot});
-    reconstruct_bindings bindings = {
-        &gs->surfaces, &gs->elements, &gs->materials, &gs->B,
-        &gs->Bu,       &p->shooters,  &p->status,     hemicube_ids_view(p->hemicube),
-        &p->ff,        &p->norm,      &p->shot,       &gs->bvh_nodes,
-        &gs->bvh_items};
-    reconstruct_bind(ctx, p->reconstruct, &bindings);
-    if (p->reconstruct_first)
-        reconstruct_bind(ctx, p->reconstruct_first, &bindings);
+    reconstruct_bind(ctx, p->reconstruct,
+                     &(reconstruct_bindings){&gs->surfaces, &gs->elements, &gs->materials,
+                                             &gs->B, &gs->Bu, &p->shooters, &p->status,
+                                             hemicube_ids_view(p->hemicube), &p->ff, &p->norm,
+                                             &p->shot, &gs->bvh_nodes, &gs->bvh_items});
     p->select_params = (select_params){
         .element_count = gs->element_count,
         .max_patches = s->desc.max_patches,
@@ -306,9 +298,7 @@ static void record_shot(xrad_solver *s, progressive *p, VkCommandBuffer cmd)
                    VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT,
                    VK_ACCESS_SHADER_READ_BIT);
     gpu_timer_begin(s->timer, cmd, "reconstruct");
-    reconstruct_pass *pass =
-        p->restarted && p->reconstruct_first ? p->reconstruct_first : p->reconstruct;
-    reconstruct_record(pass, cmd, &p->reconstruct_params, &p->status,
+    reconstruct_record(p->reconstruct, cmd, &p->reconstruct_params, &p->status,
                        offsetof(struct select_status, dispatch_x));
     gpu_timer_end(s->timer, cmd);
 }
@@ -335,7 +325,6 @@ xrad_status progressive_run(xrad_solver *s, progressive *p, bool restart, uint32
         status->converged = 0;
     }
     p->reconstruct_params.conserve_fixed = restart;
-    p->restarted = restart;
     p->reconstruct_params.near_blocks = !p->static_only || restart;
     /* A redistribution removes again what the shots after a restart give,
      * frame after frame, and those must see as it does; the restart's own

@@ -41,10 +41,10 @@
  * rounds (cross.c) and as many again. */
 #define SETTLE 8
 #define PATH_NRMSE 1e-3
-/* Every solve with conserve on, the rule the frames' shots keep under the
- * default (auto, xrad.h): what drifts is the frames' work, and auto's far
- * solves (this test's six of cornell-lowq) made the test 763 s in a
- * loaded suite run, against 250-280 s. */
+/* Every solve with conserve on, the dynamic methods' default rule (auto,
+ * xrad.h): what drifts is the frames' work, and far solves (a test build
+ * gave all six of cornell-lowq far) made the test 763 s in a loaded suite
+ * run, against 250-280 s. */
 #define CONSERVE XRAD_CONSERVE_ON
 
 /* The image after `frames` frames of `m` from t = 0 and `settle` more

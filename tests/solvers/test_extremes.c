@@ -351,11 +351,12 @@ static void test_furnace(xrad_context *ctx)
      * the suite's longest test. The 10,000 shots stay: progressive's mean
      * error grows with them (0.14% after 1,000 shots, 0.36% after 3,000,
      * 0.72% after 10,000), so fewer would hold a smaller accumulation of
-     * per-shot error to the same 1%. Conserve on for all three: far
-     * (the default solves', auto in xrad.h) passed here too on 2026-12-07,
-     * but the test then took 2235 s in a loaded suite run against 512-533
-     * s; far's conservation is checked at rho 0.9 (test_progressive) and
-     * in the rooms. */
+     * per-shot error to the same 1%. Conserve on for all three, the
+     * dynamic methods' default: far (progressive's default, auto in
+     * xrad.h) passed here too on 2026-12-07 with a test build that solved
+     * all three with it, but the test took 2235 s in a loaded suite run
+     * against 512-533 s; far's conservation is checked at rho 0.9
+     * (test_progressive) and in the rooms. */
     xrad_method methods[3] = {XRAD_METHOD_PROGRESSIVE, XRAD_METHOD_CROSS,
                               XRAD_METHOD_INCREMENTAL};
     for (int m = 0; m < 3; m++) {
