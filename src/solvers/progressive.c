@@ -137,17 +137,10 @@ xrad_status progressive_create(xrad_solver *s, uint32_t flags, progressive **out
      * the single-pass transfer. */
     uint64_t ff_bytes = (uint64_t)p->max_shooters * (gs->element_count ? gs->element_count : 1) *
                         sizeof(float);
-    /* auto: far for progressive; on for incremental and cross, whose frames
-     * shoot too (far made incremental's frames in room 1 of
-     * tests/solvers/rooms.c 1.1-1.16 times as long), and whose first solve
-     * alone with far, its frames with on, left cross's C in room 1 2.0% off
-     * where on throughout has it 1.5% (README "far for progressive"). */
-    bool automatic = s->desc.conserve == 0 || s->desc.conserve == XRAD_CONSERVE_AUTO;
-    bool far = s->desc.conserve == XRAD_CONSERVE_FAR ||
-               (automatic && s->desc.method == XRAD_METHOD_PROGRESSIVE);
     bool conserve = s->desc.conserve != XRAD_CONSERVE_OFF && ff_bytes <= MAX_FF_BYTES &&
                     ff_bytes <= ctx->props.limits.maxStorageBufferRange;
-    if ((st = reconstruct_create(ctx, conserve && far, &p->reconstruct, err)))
+    if ((st = reconstruct_create(ctx, conserve && s->desc.conserve == XRAD_CONSERVE_FAR,
+                                 &p->reconstruct, err)))
         goto fail;
     if ((st = gpu_buffer_create(ctx, conserve ? ff_bytes : 4, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                 GPU_MEM_DEVICE, GPU_MEM_RADIOSITY, &p->ff, err)) ||
