@@ -60,8 +60,7 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
      * alone with far, its frames with on, left cross's C in room 1 2.0% off
      * where on throughout has it 1.5% (README "far for progressive"). */
     if (d->conserve == XRAD_CONSERVE_AUTO)
-        d->conserve =
-            d->method == XRAD_METHOD_PROGRESSIVE ? XRAD_CONSERVE_FAR : XRAD_CONSERVE_ON;
+        d->conserve = d->method == XRAD_METHOD_PROGRESSIVE ? XRAD_CONSERVE_FAR : XRAD_CONSERVE_ON;
     if (!(d->time == d->time) || d->time > 1e9 || d->time < -1e9)
         return xrad_fail(err, XRAD_ERROR_INPUT, "solver: time must be finite, got %g", d->time);
     return XRAD_OK;
