@@ -360,9 +360,9 @@ static void test_furnace(xrad_context *ctx)
      * (the default 8 gives each wall its 5 x 5 elements as patches): a
      * shot conserves whatever its patches, and the mean error is alike
      * (progressive 0.754% against 0.72%, cross 0.025% against 0.80%).
-     * The test took 402 s on an idle machine with 4, where a CI run with
-     * 8, beside the other tests, took 1436 s (2026-12-07; not side by
-     * side: 16 patches a shot against 25). */
+     * 16 patches a shot against 25: the test took 661 s in a CI run with
+     * 4 against 1436 s in one with 8 the same day (each beside the other
+     * tests; 402 s alone on the idle machine, 2026-12-07). */
     xrad_method methods[3] = {XRAD_METHOD_PROGRESSIVE, XRAD_METHOD_CROSS,
                               XRAD_METHOD_INCREMENTAL};
     for (int m = 0; m < 3; m++) {
