@@ -304,75 +304,91 @@ void receive(uint e)
     vec3 x = cell_centroid(sr, ke % sr.nu, ke / sr.nu);
     bool near_texels = pc.neighbours != 0u;
     vec3 gathered = vec3(0.0), second = vec3(0.0);
-    for (uint h = 0u; h < pc.count; h++) {
-        uint k = pc.first + h;
-        gpu_shooter sh = shooters[k];
-        if (sh.surface == se)
-            continue;
-        vec3 ns = sh.normal.xyz;
-        vec3 d = x - sh.pos_area.xyz;
-        float cs = dot(d, ns), ce = -dot(d, ne);
-        bool near = shooting_near(d, sh.pos_area.w, pc.subdivide_ratio);
-        if (!shooting_faces(d, cs, ce, near))
-            continue;
-        vec3 t = sh.tangent.xyz;
-        vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
-        vec3 r, m_seen = vec3(0.0);
-        if (pc.mode == INCR_MODE_NEGATIVE) {
-            if (!shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                     sh.pos_area.xyz, x, true, true))
+    // The patches 32 at a time; those M's receivers see block by block
+    // are marked and taken after the others (reconstruct.comp
+    // form_factor_direct says why: llvmpipe ran visible_blocks' loops
+    // once per patch for every receiver, M's or not).
+    for (uint h0 = 0u; h0 < pc.count; h0 += 32u) {
+        uint h1 = min(h0 + 32u, pc.count), marked = 0u;
+        for (uint h = h0; h < h1; h++) {
+            uint k = pc.first + h;
+            gpu_shooter sh = shooters[k];
+            if (sh.surface == se)
                 continue;
-            r = -values[k].shot.rgb;
-        } else if (pc.mode == INCR_MODE_M_LIGHT) {
-            // M's patches at the new pose, drawn into ids_old.
-            if (!shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                     sh.pos_area.xyz, x, true, false))
+            vec3 ns = sh.normal.xyz;
+            vec3 d = x - sh.pos_area.xyz;
+            float cs = dot(d, ns), ce = -dot(d, ne);
+            bool near = shooting_near(d, sh.pos_area.w, pc.subdivide_ratio);
+            if (!shooting_faces(d, cs, ce, near))
                 continue;
-            r = values[k].total.rgb;
-        } else if (moving) {
-            // M is reset every frame and takes C's total anew: how it sees
-            // C need not match any shot that a frame removes again. Where
-            // the progressive shots see a patch block by block
-            // (reconstruct.comp near_within, near_cut: within two patch
-            // sizes, or x's plane cutting the patch), or where its centre
-            // does not see x (M covers it, or an occluder's edge passes
-            // between), x sees it block by block. Within one size alone,
-            // room 3's floating box (tests/solvers/rooms.c) came out at
-            // 0.976 on its -z side one frame after a solve that had it at
-            // 0.998, the box not moved.
-            if ((near && SHOOTING_NEAR_REACH2 * sh.pos_area.w > dot(d, d)) ||
-                shooting_straddles(x, ne, ce, surfaces[sh.surface], sh) ||
-                !shooting_visible_at(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
-                                     sh.pos_area.xyz, x, true, false)) {
-                uint cand[9];
-                uint nc = shooting_candidates(ids_new, pc.hemicube_res, local, h, se + 1u, cand);
-                gathered += visible_blocks(x, ne, surfaces[sh.surface], sh, cand, nc);
-                continue;
+            vec3 t = sh.tangent.xyz;
+            vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
+            vec3 r, m_seen = vec3(0.0);
+            if (pc.mode == INCR_MODE_NEGATIVE) {
+                if (!shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                         sh.pos_area.xyz, x, true, true))
+                    continue;
+                r = -values[k].shot.rgb;
+            } else if (pc.mode == INCR_MODE_M_LIGHT) {
+                // M's patches at the new pose, drawn into ids_old.
+                if (!shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                         sh.pos_area.xyz, x, true, false))
+                    continue;
+                r = values[k].total.rgb;
+            } else if (moving) {
+                // M is reset every frame and takes C's total anew: how it sees
+                // C need not match any shot that a frame removes again. Where
+                // the progressive shots see a patch block by block
+                // (reconstruct.comp near_within, near_cut: within two patch
+                // sizes, or x's plane cutting the patch), or where its centre
+                // does not see x (M covers it, or an occluder's edge passes
+                // between), x sees it block by block. Within one size alone,
+                // room 3's floating box (tests/solvers/rooms.c) came out at
+                // 0.976 on its -z side one frame after a solve that had it at
+                // 0.998, the box not moved.
+                if ((near && SHOOTING_NEAR_REACH2 * sh.pos_area.w > dot(d, d)) ||
+                    shooting_straddles(x, ne, ce, surfaces[sh.surface], sh) ||
+                    !shooting_visible_at(ids_new, pc.hemicube_res, near_texels, local, h, se + 1u,
+                                         sh.pos_area.xyz, x, true, false)) {
+                    marked |= 1u << (h - h0);
+                    continue;
+                }
+                r = values[k].lit.rgb;
+            } else {
+                bool was = shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h,
+                                               se + 1u, sh.pos_area.xyz, x, true, true);
+                bool is = shooting_visible_at(ids_new, pc.hemicube_res, near_texels, local, h,
+                                              se + 1u, sh.pos_area.xyz, x, true, false);
+                if (!was && !is)
+                    continue;
+                r = was && !is   ? -values[k].shot.rgb  // occluded by M
+                    : !was && is ? values[k].total.rgb  // unoccluded
+                                 : values[k].unshot.rgb; // unchanged: a progressive shot
+                // M's light reflected once more by C, for M to take back
+                // (c_light): the unshot radiosity shot here holds the NEGATIVE
+                // step's, which takes that bounce off C until the progressive
+                // iterations shoot M's light again.
+                if (is)
+                    m_seen = values[k].lit.rgb;
             }
-            r = values[k].lit.rgb;
-        } else {
-            bool was = shooting_visible_at(ids_old, pc.hemicube_res, near_texels, local, h,
-                                           se + 1u, sh.pos_area.xyz, x, true, true);
-            bool is = shooting_visible_at(ids_new, pc.hemicube_res, near_texels, local, h,
-                                          se + 1u, sh.pos_area.xyz, x, true, false);
-            if (!was && !is)
+            if (all(equal(r, vec3(0.0))) && all(equal(m_seen, vec3(0.0))))
                 continue;
-            r = was && !is   ? -values[k].shot.rgb  // occluded by M
-                : !was && is ? values[k].total.rgb  // unoccluded
-                             : values[k].unshot.rgb; // unchanged: a progressive shot
-            // M's light reflected once more by C, for M to take back
-            // (c_light): the unshot radiosity shot here holds the NEGATIVE
-            // step's, which takes that bounce off C until the progressive
-            // iterations shoot M's light again.
-            if (is)
-                m_seen = values[k].lit.rgb;
+            float ff = near ? shooting_quad(x, ne, surfaces[sh.surface], sh)
+                            : shooting_disk(d, cs, ce, sh.pos_area.w);
+            gathered += r * ff;
+            second += m_seen * ff;
         }
-        if (all(equal(r, vec3(0.0))) && all(equal(m_seen, vec3(0.0))))
-            continue;
-        float ff = near ? shooting_quad(x, ne, surfaces[sh.surface], sh)
-                        : shooting_disk(d, cs, ce, sh.pos_area.w);
-        gathered += r * ff;
-        second += m_seen * ff;
+        while (marked != 0u) {
+            uint h = h0 + uint(findLSB(marked));
+            marked &= marked - 1u;
+            gpu_shooter sh = shooters[pc.first + h];
+            vec3 ns = sh.normal.xyz, t = sh.tangent.xyz;
+            vec3 d = x - sh.pos_area.xyz;
+            vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), dot(d, ns));
+            uint cand[9];
+            uint nc = shooting_candidates(ids_new, pc.hemicube_res, local, h, se + 1u, cand);
+            gathered += visible_blocks(x, ne, surfaces[sh.surface], sh, cand, nc);
+        }
     }
     if (pc.mode == INCR_MODE_INCREMENT)
         m_light[e].rgb += elements[e].albedo.rgb * second;

@@ -307,9 +307,67 @@ vec3 receiver_point(uint e)
     return cell_centroid(sr, ke % sr.nu, ke / sr.nu);
 }
 
+// What form_factor_direct returns where the factor is the patch's blocks'
+// (form_factor_blocks): no form factor is negative there.
+const float FF_BLOCKS = -1.0;
+
+// Where receiver x (normal ne) lies from patch sh: d = x - centre, cs and
+// ce its cosines at the patch and at x (unnormalised), and which of the
+// near-field rules apply.
+struct pair_geometry {
+    vec3 d;
+    float cs, ce, area;
+    bool near, near_field, within, cut;
+};
+
+pair_geometry pair_at(gpu_shooter sh, vec3 x, vec3 ne)
+{
+    pair_geometry g;
+    g.d = x - sh.pos_area.xyz;
+    g.cs = dot(g.d, sh.normal.xyz);
+    g.ce = -dot(g.d, ne);
+    g.area = sh.pos_area.w;
+    g.near = shooting_near(g.d, g.area, pc.subdivide_ratio);
+    // Shots a redistribution removes again see as its pass does
+    // (reconstruct_params.redistributed): the occluder test, but the
+    // patch's mean and its centre's visibility in the near field.
+    g.near_field = pc.redistributed == 0u && g.near && g.area > dot(g.d, g.d);
+    // Near a patch, or where x's tangent plane cuts through it, its
+    // visibility is its blocks' (near_cells) rather than its centre's: a
+    // floor patch whose centre lies behind or under a box still lights the
+    // box's side from its part in front (the sides' bottom rows were
+    // 0.76-0.80 of the CPU reference's), and a ceiling light cut by the
+    // plane of a floating box's side lights the side from the part in
+    // front, which its centre, behind the plane, does not see (0.87-0.94).
+    // Cross's iterations after its restart shoot signed changes and keep
+    // the centre's visibility (pc.near_blocks 0): with the blocks', 10,000
+    // frames of a sliding box settled 13% above the power bound after
+    // frame 4000. Its restart, C's plain solve, sees block by block (room
+    // 1's table sides at the floor 0.84 of the CPU reference's without).
+    // (pc.near_blocks is 0 where pc.redistributed is 1, reconstruct.c.)
+    g.within = near_within(g.d, g.area);
+    g.cut = !g.within && near_cut(x, ne, g.ce, sh);
+    return g;
+}
+
+// The local direction of x in patch sh's hemicube frame.
+vec3 pair_local(gpu_shooter sh, pair_geometry g)
+{
+    vec3 t = sh.tangent.xyz;
+    return vec3(dot(g.d, t), dot(g.d, cross(sh.normal.xyz, t)), g.cs);
+}
+
 // The form factor from receiver e (point x, normal ne, surface se) to
-// shooter k, 0 where it does not see the shooter.
-float form_factor(uint k, vec3 x, vec3 ne, uint se)
+// shooter k, 0 where it does not see the shooter, or FF_BLOCKS where
+// form_factor_blocks gives it. The two are apart so that main() can run
+// the blocks after the loop over the shot's patches, for the pairs that
+// need them alone: llvmpipe runs code under a mask, every lane whether it
+// takes a branch or not, and with near_cells inside the loop every
+// receiver paid for its loops once per patch (room 1 of
+// tests/solvers/rooms.c: a progressive shot 6.0 ms a patch, 1.8 ms with
+// the blocks replaced by the patch's exact form factor; measured
+// 2026-12-07).
+float form_factor_direct(uint k, vec3 x, vec3 ne, uint se)
 {
     gpu_shooter sh = shooters[k];
     if (sh.surface == se)
@@ -323,55 +381,51 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
     // 0.914 on a side.
     if (pc.redistributed != 0u && surfaces[se].dynamic != 0u && surfaces[sh.surface].dynamic == 0u)
         return 0.0;
-    vec3 ns = sh.normal.xyz;
-    vec3 d = x - sh.pos_area.xyz;
-    float cs = dot(d, ns), ce = -dot(d, ne);
-    float area = sh.pos_area.w;
-    bool near = shooting_near(d, area, pc.subdivide_ratio);
-    // Shots a redistribution removes again see as its pass does
-    // (reconstruct_params.redistributed): the occluder test, but the
-    // patch's mean and its centre's visibility in the near field.
-    bool near_field = pc.redistributed == 0u && near && area > dot(d, d);
-    // Near a patch, or where x's tangent plane cuts through it, its
-    // visibility is its blocks' (near_cells) rather than its centre's: a
-    // floor patch whose centre lies behind or under a box still lights the
-    // box's side from its part in front (the sides' bottom rows were
-    // 0.76-0.80 of the CPU reference's), and a ceiling light cut by the
-    // plane of a floating box's side lights the side from the part in
-    // front, which its centre, behind the plane, does not see (0.87-0.94).
-    // The surfaces the texels towards x show are the candidate occluders
-    // of every block. Cross's iterations after its restart shoot signed
-    // changes and keep the centre's visibility (pc.near_blocks 0): with
-    // the blocks', 10,000 frames of a sliding box settled 13% above the
-    // power bound after frame 4000. Its restart, C's plain solve, sees
-    // block by block (room 1's table sides at the floor 0.84 of the CPU
-    // reference's without).
-    // (pc.near_blocks is 0 where pc.redistributed is 1, reconstruct.c.)
-    bool within = near_within(d, area);
-    bool cut = !within && near_cut(x, ne, ce, sh);
-    bool blocks = within || cut;
-    if (!shooting_faces(d, cs, ce, near || blocks))
+    pair_geometry g = pair_at(sh, x, ne);
+    bool blocks = g.within || g.cut;
+    if (!shooting_faces(g.d, g.cs, g.ce, g.near || blocks))
         return 0.0;
-    vec3 t = sh.tangent.xyz;
-    vec3 local = vec3(dot(d, t), dot(d, cross(ns, t)), cs);
+    if (blocks)
+        return FF_BLOCKS;
+    if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, pair_local(sh, g),
+                          sh.hemicube, se + 1u, sh.pos_area.xyz, x, true))
+        return 0.0;
+    if (!g.near)
+        return shooting_disk(g.d, g.cs, g.ce, g.area);
+    if (!g.near_field)
+        return shooting_quad(x, ne, surfaces[sh.surface], sh);
+    // The centre's visibility and the blocks' radiosity.
+    return FF_BLOCKS;
+}
+
+// The form factor where form_factor_direct returned FF_BLOCKS: the patch's
+// blocks (near_cells), with their own visibility where x sees the patch
+// block by block, or (the near field) the centre's.
+float form_factor_blocks(uint k, vec3 x, vec3 ne, uint se)
+{
+    gpu_shooter sh = shooters[k];
+    pair_geometry g = pair_at(sh, x, ne);
     uint cand[9];
     uint ncand = 0u;
-    if (blocks) {
-        // Cut by x's plane beyond the blocks' reach, every surface is a
-        // candidate occluder (SHOOTING_EVERY_SURFACE says why); mesh faces
-        // only where the texels show them (SHOOTING_EVERY_QUAD). A mesh
-        // face as the receiver, where curvature puts many shooters across
-        // its plane, takes the texels' candidates alone: every segment a
-        // loop over the scene's surfaces made a 1280-face ball's shots 10
-        // times dearer per element than an 80-face one's.
-        ncand = shooting_candidates(hemicubes, pc.hemicube_res, local, sh.hemicube, se + 1u, cand);
+    if (g.within || g.cut) {
+        // The surfaces the texels towards x show are the candidate
+        // occluders of every block. Cut by x's plane beyond the blocks'
+        // reach, every surface is a candidate occluder
+        // (SHOOTING_EVERY_SURFACE says why); mesh faces only where the
+        // texels show them (SHOOTING_EVERY_QUAD). A mesh face as the
+        // receiver, where curvature puts many shooters across its plane,
+        // takes the texels' candidates alone: every segment a loop over the
+        // scene's surfaces made a 1280-face ball's shots 10 times dearer
+        // per element than an 80-face one's.
+        ncand = shooting_candidates(hemicubes, pc.hemicube_res, pair_local(sh, g), sh.hemicube,
+                                    se + 1u, cand);
         // With conserve far the blocks' form factors are not scaled, so
         // nothing makes up for an occluder the texels miss: every quad is
         // tested (room 5's table side 1.031 of the CPU reference with the
         // texels' candidates alone, 1.015 with every quad).
         // With far the quads are collected once for all the blocks
         // (shooting_collect_bundle).
-        if (surfaces[se].mesh == 0u && (cut || CONSERVE_FAR))
+        if (surfaces[se].mesh == 0u && (g.cut || CONSERVE_FAR))
             ncand |= SHOOTING_EVERY_QUAD;
 #ifdef SHOOTING_BUNDLE
         if (surfaces[se].mesh == 0u) {
@@ -380,23 +434,19 @@ float form_factor(uint k, vec3 x, vec3 ne, uint se)
             shooting_collect_bundle(q, x);
         }
 #endif
-    } else {
-        if (!shooting_visible(hemicubes, pc.hemicube_res, pc.neighbours != 0u, local, sh.hemicube,
-                              se + 1u, sh.pos_area.xyz, x, true))
-            return 0.0;
-        if (!near)
-            return shooting_disk(d, cs, ce, area);
-        if (!near_field)
-            return shooting_quad(x, ne, surfaces[sh.surface], sh);
     }
-    // The blocks with their own visibility, or (near_field) the centre's:
-    // one call, so that llvmpipe's lanes run near_cells' loops once
-    // (near_cells says what a second place cost).
     float f = near_cells(x, ne, surfaces[sh.surface], sh, cand, ncand);
 #ifdef SHOOTING_BUNDLE
     shooting_box_quad_count = SHOOTING_BOX_NONE;
 #endif
     return f;
+}
+
+// Both: the form factor from receiver e to shooter k.
+float form_factor(uint k, vec3 x, vec3 ne, uint se)
+{
+    float f = form_factor_direct(k, x, ne, se);
+    return f == FF_BLOCKS ? form_factor_blocks(k, x, ne, se) : f;
 }
 
 void main()
@@ -484,17 +534,39 @@ void main()
     }
     shooting_exact_mesh = pc.redistributed == 0u;
     vec3 gathered = vec3(0.0);
-    for (uint k = 0u; k < count; k++) {
-        if (pc.mode == RECONSTRUCT_MODE_FF) {
-            ff[k * pc.element_count + e] = form_factor(k, x, ne, se);
-            continue;
+    if (pc.mode == RECONSTRUCT_MODE_APPLY) {
+        for (uint k = 0u; k < count; k++) {
+            float f = ff[k * pc.element_count + e] *
+                      norm[2u * k + (CONSERVE_FAR && sees_blocks(shooters[k], x, ne) ? 1u : 0u)];
+            gathered += shooters[k].radiosity.rgb * f;
         }
-        float f = pc.mode != RECONSTRUCT_MODE_APPLY ? form_factor(k, x, ne, se)
-                  : ff[k * pc.element_count + e] *
-                        norm[2u * k + (CONSERVE_FAR && sees_blocks(shooters[k], x, ne)
-                                           ? 1u
-                                           : 0u)];
-        gathered += shooters[k].radiosity.rgb * f;
+    } else {
+        // The patches 32 at a time: first every factor that needs no
+        // blocks, marking those that do, then the marked ones alone
+        // (form_factor_direct says why).
+        for (uint k0 = 0u; k0 < count; k0 += 32u) {
+            uint k1 = min(k0 + 32u, count), marked = 0u;
+            for (uint k = k0; k < k1; k++) {
+                float f = form_factor_direct(k, x, ne, se);
+                if (f == FF_BLOCKS) {
+                    marked |= 1u << (k - k0);
+                    f = 0.0;
+                }
+                if (pc.mode == RECONSTRUCT_MODE_FF)
+                    ff[k * pc.element_count + e] = f;
+                else
+                    gathered += shooters[k].radiosity.rgb * f;
+            }
+            while (marked != 0u) {
+                uint k = k0 + uint(findLSB(marked));
+                marked &= marked - 1u;
+                float f = form_factor_blocks(k, x, ne, se);
+                if (pc.mode == RECONSTRUCT_MODE_FF)
+                    ff[k * pc.element_count + e] = f;
+                else
+                    gathered += shooters[k].radiosity.rgb * f;
+            }
+        }
     }
     if (pc.mode == RECONSTRUCT_MODE_FF)
         return;
