@@ -237,7 +237,7 @@ bool shooting_faces(vec3 d, float cs, float ce, bool near)
 // The terms of shooting_point_to_quad's sum, edge by edge: shooting_arc
 // that of the edge from a to b (corners less x) as it is;
 // shooting_edge_term that of the edge's part in front of x (normal n);
-// shooting_cut_term that of the edge the clipping adds to quad r (less
+// shooting_cut_term that of the edges the clipping adds to quad r (less
 // x), from where its boundary leaves the front half-space to where it
 // enters again, 0 where the plane does not cut it. The polygon clipped
 // in a private array (its corners and crossings in turn, up to 5, then a
@@ -270,21 +270,33 @@ float shooting_edge_term(vec3 a, vec3 b, vec3 n)
 
 float shooting_cut_term(vec3 r[4], vec3 n)
 {
-    vec3 leave = vec3(0.0), enter = vec3(0.0);
-    bool cut = false;
+    // The crossings alternate, leaving and entering, round the quad; each
+    // leaving one joins the next entering one, the last the first.
+    // Rounding can make more than one pair where the quad lies in x's
+    // plane (a triangle beside x's own in a mesh's face): with the last
+    // pair alone, gather's direct light in test_triangles' furnace of
+    // one-element triangles came out 1.1% off E / (1 - rho).
+    float sum = 0.0;
+    vec3 leave = vec3(0.0), first_enter = vec3(0.0);
+    bool pending = false, early = false;
     for (int k = 0; k < 4; k++) {
         vec3 a = r[k], b = r[(k + 1) & 3];
         float da = dot(a, n), db = dot(b, n);
         if ((da > 0.0) != (db > 0.0)) {
             vec3 m = mix(a, b, da / (da - db));
-            if (da > 0.0)
+            if (da > 0.0) {
                 leave = m;
-            else
-                enter = m;
-            cut = true;
+                pending = true;
+            } else if (pending) {
+                sum += shooting_arc(leave, m, n);
+                pending = false;
+            } else {
+                first_enter = m;
+                early = true;
+            }
         }
     }
-    return cut ? shooting_arc(leave, enter, n) : 0.0;
+    return pending && early ? sum + shooting_arc(leave, first_enter, n) : sum;
 }
 
 // Form factor from the point x (unit normal n) to the convex polygon q[0..3]
