@@ -127,9 +127,23 @@ static xrad_scene *load(const char *rel)
     return scene;
 }
 
+/* A -> B -> A against the solution at A: s solved at ta (`first`, its
+ * image at ta) and now at tb goes back to ta. */
 static void symmetry_check(xrad_context *ctx, const xrad_scene *scene, xrad_solver *s,
-                           const char *rel, xrad_method m, double ta, double tb,
-                           const float *first);
+                           const char *rel, xrad_method m, double ta, double tb, const float *first)
+{
+    xrad_error err = {0};
+    uint32_t w, h;
+    CHECK(xrad_solver_advance(s, ta, &err) == XRAD_OK, "advance: %s", err.message);
+    float *back = solver_test_render(ctx, scene, s, ta, &w, &h);
+    if (first && back) {
+        double e = xrad_image_nrmse(back, first, w, h);
+        fprintf(stderr, "symmetry %s %s %.2f -> %.2f -> %.2f s: NRMSE %.5f\n", rel,
+                xrad_method_name(m), ta, tb, ta, e);
+        CHECK(e < 0.005, "%s %s: A -> B -> A NRMSE %.5f", rel, xrad_method_name(m), e);
+    }
+    free(back);
+}
 
 /* Converge at ta, redistribute to tb; against a fresh progressive solve at
  * tb. With `followed`, the result must also be much nearer the method's
@@ -331,24 +345,6 @@ static void sign_test(xrad_context *ctx, xrad_method m)
     }
     xrad_solver_destroy(&s);
     xrad_scene_destroy(&scene);
-}
-
-/* A -> B -> A against the solution at A: s solved at ta (`first`, its
- * image at ta) and now at tb goes back to ta. */
-static void symmetry_check(xrad_context *ctx, const xrad_scene *scene, xrad_solver *s,
-                           const char *rel, xrad_method m, double ta, double tb, const float *first)
-{
-    xrad_error err = {0};
-    uint32_t w, h;
-    CHECK(xrad_solver_advance(s, ta, &err) == XRAD_OK, "advance: %s", err.message);
-    float *back = solver_test_render(ctx, scene, s, ta, &w, &h);
-    if (first && back) {
-        double e = xrad_image_nrmse(back, first, w, h);
-        fprintf(stderr, "symmetry %s %s %.2f -> %.2f -> %.2f s: NRMSE %.5f\n", rel,
-                xrad_method_name(m), ta, tb, ta, e);
-        CHECK(e < 0.005, "%s %s: A -> B -> A NRMSE %.5f", rel, xrad_method_name(m), e);
-    }
-    free(back);
 }
 
 /* Converge at ta, go to tb and back (symmetry_check). */
