@@ -746,7 +746,8 @@ typedef struct xrad_solver_desc {
     uint32_t batch;          /* progressive: shots recorded per submission (one host wait per
                                 batch); default 32 */
     uint32_t max_patches;    /* progressive: most shooting patches along a side of a surface
-                                (dynamic shooter subdivision, thesis 4.3.3); default 8 */
+                                (dynamic shooter subdivision, thesis 4.3.3); default 0: 12 for
+                                progressive, 8 for incremental and cross */
     double subdivide_ratio;  /* progressive: disk form factor subdivided when shooter area /
                                 distance^2 exceeds this (thesis 4.3.3); default 0.01 */
     /* Hard stop of one call: shots (progressive; a frame's iterations

@@ -73,9 +73,10 @@ vec2 param_range(uint i0, uint i1, uint n)
 // centre's and its receivers nearby see the error of that whatever the
 // power: in the Cornell box the blocks' sides were 7-11% dark with the
 // linear rule at 8, 3-5% with the square root at 12 (a shot costs its
-// patches' hemicubes and one reconstruct over every element per patch, so
-// the default stays at 8; linear below a share of 1% saved only 16% of
-// the shots for 3 points of surface error). Cross's iterations after a
+// patches' hemicubes and one reconstruct over every element per patch;
+// the default is 12 since the shots got cheaper, README "12 shooting
+// patches a side"; linear below a share of 1% saved only 16% of the shots
+// for 3 points of surface error). Cross's iterations after a
 // frame's redistribution keep the linear rule (pc.linear_rule; its first
 // solve's rounds do not, cross.c): they shoot the signed changes a
 // pose brings, and with the square root what the solution held at one pose

@@ -4,11 +4,12 @@
 
 #include <cjson/cJSON.h>
 
+#include "cli.h"
 #include "method.h"
 #include "xrad.h"
 
 typedef struct bench_opts {
-    const char *scenes[8];
+    const char *scenes[CLI_POSITIONAL_MAX];
     int scene_count;
     const char *methods, *json, *cache, *device;
     uint32_t repeat, width, height, ref_rays, max_ref_elements, ref_gather_rays, ref_cell_points;

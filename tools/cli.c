@@ -94,7 +94,11 @@ bool cli_is_help(const char *opt) { return !strcmp(opt, "help") || !strcmp(opt, 
 
 void cli_unknown(cli_args *a, const char *opt)
 {
-    cli_usage_error(a->command, "unknown option --%s (see xrad %s --help)", opt, a->command);
+    /* Named as written: "-o" said back as "--o" reads as a typo of ours. */
+    const char *raw = a->index > 0 && a->index <= a->argc ? a->argv[a->index - 1] : opt;
+    const char *eq = strchr(raw, '=');
+    int n = eq ? (int)(eq - raw) : (int)strlen(raw);
+    cli_usage_error(a->command, "unknown option %.*s (see xrad %s --help)", n, raw, a->command);
     a->failed = true;
 }
 

@@ -18,6 +18,10 @@ int cmd_devices(int argc, char **argv);
 int cmd_bench(int argc, char **argv);
 int cmd_view(int argc, char **argv);
 
+/* Positional arguments a command takes at most: bench takes a scene per
+ * argument, room for a shell glob's worth. */
+#define CLI_POSITIONAL_MAX 256
+
 /* Scans argv for options. Each call to cli_next returns the next option name
  * (without leading dashes) or NULL at the end; positional arguments are
  * collected in `positional`. `--name=value` and `--name value` both work. */
@@ -26,7 +30,7 @@ typedef struct cli_args {
     char **argv;
     const char *value; /* inline value from --name=value, if any */
     char opt[64];
-    const char *positional[8];
+    const char *positional[CLI_POSITIONAL_MAX];
     int positional_count;
     const char *command;
     bool failed;

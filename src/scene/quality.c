@@ -43,9 +43,11 @@ static const setting settings[] = {
       "disk approximation (thesis 4.3.3)",
       XRAD_SETTING_REAL, 0.01, 0, 1e6, NULL, 1},
      SOLVER(subdivide_ratio), RULE_NONE},
-    {{"max_patches", "most shooting patches along a surface side (shooter subdivision)",
-      XRAD_SETTING_INTEGER, 8, 1, 64, NULL, 0},
-     SOLVER(max_patches), RULE_NONE},
+    {{"max_patches",
+      "most shooting patches along a surface side (shooter subdivision); 0: 12 for "
+      "progressive, 8 for incremental and cross",
+      XRAD_SETTING_INTEGER, 0, 0, 64, NULL, 0},
+     SOLVER(max_patches), RULE_ZERO_OK},
     {{"threshold",
       "stop when the largest unshot power (gather: the light the bounces still to come would "
       "add) relative to the emitted power is below this",
@@ -323,7 +325,7 @@ static const struct {
                                                                      adaptive: levels lower upper */
     {"draft",       {32, 1, 1, 0.1, 2, 1e-3, 0.05, 64, 0, 1, 0.2, 0, 8, 1, 1, 2, 1, 0, 1, 1, 3, 0.5, 0, 0.02, 0.98}},
     {"interactive", {64, 1, 1, 0.01, 8, 3e-4, 0.02, 32, 0, 2, 0.05, 0, 16, 4, 1, 2, 1, 0, 1, 1, 3, 1, 0, 0.02, 0.98}},
-    {"high",        {128, 4, 1, 0.01, 8, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 3, 0, 1, 1, 3, 1, 0, 0.02, 0.98}},
+    {"high",        {128, 4, 1, 0.01, 12, 1e-5, 1e-3, 32, 0, 4, 0.005, 0, 32, 4, 1, 1, 3, 0, 1, 1, 3, 1, 0, 0.02, 0.98}},
     {"reference",   {256, 4, 1, 0.001, 24, 1e-5, 1e-4, 32, 0, 8, 1e-6, 0, 64, 4, 2, 1, 3, 0, 1, 1, 3, 2, 0, 0.02, 0.98}},
 };
 

@@ -59,6 +59,13 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
      * tests/solvers/rooms.c 1.1-1.16 times as long), and whose first solve
      * alone with far, its frames with on, left cross's C in room 1 2.0% off
      * where on throughout has it 1.5% (README "far for progressive"). */
+    /* max_patches 0: 12 for progressive, whose rooms (tests/solvers/rooms.c)
+     * all came within 2% with it (room 2 0.0203 at 8); 8 for incremental
+     * and cross, whose frames shoot too (incremental's 1.4 times as long
+     * at 12 on cornell-large) and whose conserve on left lamp-room's table
+     * underside 7% dark at 12 (README "12 shooting patches a side"). */
+    if (!d->max_patches)
+        d->max_patches = d->method == XRAD_METHOD_PROGRESSIVE ? 12 : 8;
     if (d->conserve == XRAD_CONSERVE_AUTO)
         d->conserve = d->method == XRAD_METHOD_PROGRESSIVE ? XRAD_CONSERVE_FAR : XRAD_CONSERVE_ON;
     if (!(d->time == d->time) || d->time > 1e9 || d->time < -1e9)

@@ -56,6 +56,8 @@ expect 1 "unknown command" -- "$xrad" frobnicate
 expect 1 "render without a scene" -- "$xrad" render
 expect 1 "unknown option" -- "$xrad" render "$root/scenes/cornell-box.json" --bogus
 expect_text "$tmp/err" "bogus" "unknown option is named"
+expect 1 "unknown short option" -- "$xrad" render "$root/scenes/cornell-box.json" -o x.png
+expect_text "$tmp/err" "unknown option -o (" "an unknown option is named as written"
 expect 1 "unknown method" -- "$xrad" render "$root/scenes/cornell-box.json" --method bogus
 expect 1 "bad number" -- "$xrad" render "$root/scenes/cornell-box.json" --width -3
 expect 1 "bad extension" -- "$xrad" render "$root/scenes/cornell-box.json" --out x.jpg

@@ -33,19 +33,21 @@
 #define SURFACE_ERROR_MAX 0.02
 #define P95_MAX 0.05
 #define IMAGE_RATIO_TOL 0.01
-/* What the checks hold every row to while the GPU methods do not meet the
- * thresholds above everywhere (issue 14 open: a few box sides and the
- * cabinet beside room 2's wall light 2.4-4.6% off, see README "Accuracy").
- * Each bound fails what an earlier fix removed, so that its return fails
- * the test:
- *  - progressive (surface_error <= 0.04, p95 <= 0.05; measured
- *    0.012-0.029 and 0.014-0.041): patches shooting from inside a box
- *    without a bottom or a cabinet's pocket (0.14 and 0.10 in rooms 1 and
- *    2 before), near patches seen by their centre (room 4: p95 0.110,
- *    0.300), patches within two sizes by their mean (rooms 2 and 4: 0.051,
- *    0.066), a light cut by a box side's plane seen from its centre
- *    (room 3: 0.087), a side seen edge-on drawn in no texel (room 3:
- *    0.045);
+/* What the checks hold every row to while the dynamic methods do not meet
+ * the thresholds above everywhere (issue 14 open: the cabinet beside room
+ * 2's wall light and room 5's moving box 2.9-3.4% off at their 8 patches
+ * a side, see README "Accuracy"). Each bound fails what an earlier fix
+ * removed, so that its return fails the test:
+ *  - progressive (issue 14's own 0.02, 0.05, image 0.01; measured at its
+ *    default 12 patches a side 0.0060-0.0182, 0.008-0.032, image
+ *    0.9926-1.0003): 8 patches a side (room 2's back wall beside its
+ *    flush light 0.0203, README "12 shooting patches a side"), patches
+ *    shooting from inside a box without a bottom or a cabinet's pocket
+ *    (0.14 and 0.10 in rooms 1 and 2 before), near patches seen by their
+ *    centre (room 4: p95 0.110, 0.300), patches within two sizes by their
+ *    mean (rooms 2 and 4: 0.051, 0.066), a light cut by a box side's plane
+ *    seen from its centre (room 3: 0.087), a side seen edge-on drawn in no
+ *    texel (room 3: 0.045);
  *  - incremental (0.045, 0.05; measured 0.011-0.034 and 0.014-0.041): the
  *    same, its first solve with its redistribution's visibility (p95 0.17
  *    in room 3), its moving box taking C's light by the patches' centres
@@ -70,7 +72,7 @@
     ((m) == XRAD_METHOD_CROSS         ? 0.03                                                       \
      : (m) == XRAD_METHOD_GATHER      ? 0.02                                                       \
      : (m) == XRAD_METHOD_INCREMENTAL ? 0.045                                                      \
-                                      : 0.04)
+                                      : 0.02)
 #define GUARD_P95_MAX(m) 0.05
 /* Rooms whose moving box incremental holds to SURFACE_ERROR_MAX (above). */
 #define INCREMENTAL_MOVER_ROOMS(room) ((room) == 1 || (room) == 3)
@@ -85,7 +87,8 @@
  * element was set to its emission (incremental_reconstruct.comp reset());
  * 0.06-1.06 now. */
 #define GUARD_ELEMENT_MAX(m) 10.0
-#define GUARD_IMAGE_RATIO_TOL(m) ((m) == XRAD_METHOD_GATHER ? 0.01 : 0.015)
+#define GUARD_IMAGE_RATIO_TOL(m)                                                                   \
+    ((m) == XRAD_METHOD_GATHER || (m) == XRAD_METHOD_PROGRESSIVE ? 0.01 : 0.015)
 
 typedef struct row {
     uint32_t room;
