@@ -314,8 +314,11 @@ xrad_status xrad_quality_format(const xrad_quality *q, const char *name, char *b
 /* Presets: name, then the settings in table order. Tuned on surface_error
  * and element p95 against the CPU reference (README "Quality"): the
  * threshold is what buys progressive's speed (draft's 1e-2 left room-4's
- * table 25% off, interactive's 1e-3 cornell-large's plinth 7.5%), and 16
- * shooting patches a side made room-4's table side worse than 8. */
+ * table 25% off, interactive's 1e-3 cornell-large's plinth 7.5%); 16
+ * shooting patches a side made room-4's table side worse than 8, and
+ * `high` has progressive's default 12 since the near blocks and the
+ * shots' conservation were reworked (README "12 shooting patches a
+ * side"). */
 static const struct {
     const char *name;
     double v[SETTING_COUNT];
