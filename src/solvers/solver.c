@@ -54,11 +54,6 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
     *d = q.solver;
     if (!d->max_iterations)
         d->max_iterations = 100000;
-    /* conserve auto: far for progressive; on for incremental and cross,
-     * whose frames shoot too (far made incremental's frames in room 1 of
-     * tests/solvers/rooms.c 1.1-1.16 times as long), and whose first solve
-     * alone with far, its frames with on, left cross's C in room 1 2.0% off
-     * where on throughout has it 1.5% (README "far for progressive"). */
     /* max_patches 0: 12 for progressive, whose rooms (tests/solvers/rooms.c)
      * all came within 2% with it (room 2 0.0203 at 8); 8 for incremental
      * and cross, whose frames shoot too (incremental's 1.4 times as long
@@ -66,6 +61,11 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
      * underside 7% dark at 12 (README "12 shooting patches a side"). */
     if (!d->max_patches)
         d->max_patches = d->method == XRAD_METHOD_PROGRESSIVE ? 12 : 8;
+    /* conserve auto: far for progressive; on for incremental and cross,
+     * whose frames shoot too (far made incremental's frames in room 1 of
+     * tests/solvers/rooms.c 1.1-1.16 times as long), and whose first solve
+     * alone with far, its frames with on, left cross's C in room 1 2.0% off
+     * where on throughout has it 1.5% (README "far for progressive"). */
     if (d->conserve == XRAD_CONSERVE_AUTO)
         d->conserve = d->method == XRAD_METHOD_PROGRESSIVE ? XRAD_CONSERVE_FAR : XRAD_CONSERVE_ON;
     if (!(d->time == d->time) || d->time > 1e9 || d->time < -1e9)
