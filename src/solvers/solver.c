@@ -57,8 +57,8 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
     /* max_patches 0: 12 for progressive, whose rooms (tests/solvers/rooms.c)
      * all came within 2% with it (room 2 0.0203 at 8); 8 for incremental
      * and cross, whose frames shoot too (incremental's 1.4 times as long
-     * at 12 on cornell-large) and whose conserve on left lamp-room's table
-     * underside 7% dark at 12 (README "12 shooting patches a side"). */
+     * at 12 on cornell-large) and whose conserve on put lamp-room's table
+     * underside 30% high at 12 (README "12 shooting patches a side"). */
     if (!d->max_patches)
         d->max_patches = d->method == XRAD_METHOD_PROGRESSIVE ? 12 : 8;
     /* conserve auto: far for progressive; on for incremental and cross,
