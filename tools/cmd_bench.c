@@ -145,8 +145,9 @@ static void pass_frames_free(pass_frames *pf)
 
 /* Bumped when what is cached or how it is measured changes, so that
  * files of an older bench are made again rather than read: 1 added the
- * element atlas and the emitter mask beside the image. */
-#define BENCH_CACHE_VERSION 1
+ * element atlas and the emitter mask beside the image; 2: the reference's
+ * faces pressed against others see nothing (ref_receiver_pressed). */
+#define BENCH_CACHE_VERSION 2
 
 void bench_reference_free(bench_reference *ref)
 {

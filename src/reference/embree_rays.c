@@ -33,6 +33,7 @@ typedef struct occlusion_ctx {
     struct RTCIntersectContext rtc;
     const ref_rays *rays;
     uint32_t own, target;
+    vec3 facing; /* touch_filter: the normal a pressed face turns away from */
 } occlusion_ctx;
 
 static bool coplanar(const ref_rays *r, uint32_t a, uint32_t b)
@@ -55,6 +56,21 @@ static void filter(const struct RTCFilterFunctionNArguments *args)
         uint32_t q = prim[i];
         if (q == c->own || q == c->target || coplanar(c->rays, q, c->own) ||
             coplanar(c->rays, q, c->target))
+            args->valid[i] = 0;
+    }
+}
+
+/* Contact filter (ref_rays_touching): only a quad other than the own one
+ * that faces against it is a hit. */
+static void touch_filter(const struct RTCFilterFunctionNArguments *args)
+{
+    const occlusion_ctx *c = (const occlusion_ctx *)args->context;
+    const unsigned *prim = (const unsigned *)args->hit + 5 * args->N;
+    for (unsigned i = 0; i < args->N; i++) {
+        if (!args->valid[i])
+            continue;
+        uint32_t q = prim[i];
+        if (q == c->own || !(v3_dot(c->rays->quads[q].normal, c->facing) < -REF_CONTACT_COS))
             args->valid[i] = 0;
     }
 }
@@ -200,4 +216,25 @@ void ref_rays_closest(const ref_rays *rays, uint32_t own, vec3 from, const vec3 
         hit[k] = found ? rh[k].hit.primID : UINT32_MAX;
         t[k] = found ? rh[k].ray.tfar : INFINITY;
     }
+}
+
+bool ref_rays_touching(const ref_rays *rays, uint32_t own, vec3 n, vec3 from, vec3 dir)
+{
+    occlusion_ctx c = {.rays = rays, .own = own, .target = own, .facing = n};
+    rtcInitIntersectContext(&c.rtc);
+    c.rtc.filter = touch_filter;
+    struct RTCRay ray = {
+        .org_x = (float)from.x,
+        .org_y = (float)from.y,
+        .org_z = (float)from.z,
+        .dir_x = (float)dir.x,
+        .dir_y = (float)dir.y,
+        .dir_z = (float)dir.z,
+        .tnear = 0,
+        .tfar = 1,
+        .mask = 0xffffffffu,
+        .flags = 0,
+    };
+    rtcOccluded1(rays->scene, &c.rtc, &ray);
+    return ray.tfar == -INFINITY;
 }

@@ -47,4 +47,10 @@ void ref_rays_occluded(const ref_rays *rays, uint32_t own, uint32_t target, vec3
 void ref_rays_closest(const ref_rays *rays, uint32_t own, vec3 from, const vec3 *dirs,
                       uint32_t count, uint32_t *hit, double *t);
 
+/* True where the segment from `from` along `dir` (its length the
+ * segment's) meets a quad other than `own` whose normal is within a degree
+ * of -n: a face pressed against point `from`'s surface (normal n), the
+ * test of ref_receiver_pressed. Thread-safe. */
+bool ref_rays_touching(const ref_rays *rays, uint32_t own, vec3 n, vec3 from, vec3 dir);
+
 #endif

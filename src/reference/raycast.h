@@ -31,6 +31,10 @@ bool ref_quad_init(ref_quad *q, const vec3 corners[4]);
 #define REF_RAY_EPS 1e-9
 bool ref_segment_hits_quad(const ref_quad *q, vec3 a, vec3 b);
 
+/* Two faces whose normals are within a degree of opposite (cos 179 deg)
+ * can be pressed together (ref_receiver_pressed). */
+#define REF_CONTACT_COS 0.99985
+
 /* Conservative separation test: false only if q certainly does not meet the
  * interior of the convex hull of `apex` and the convex polygon base[0..3]
  * (so no segment from apex to a point of the base can cross q), where

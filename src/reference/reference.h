@@ -76,6 +76,17 @@ static inline ref_receiver ref_receiver_of(const ref_geometry *g, uint32_t i)
     return (ref_receiver){g->recv[i], g->normal[i], g->origin[i], i, g->surface_of[i]};
 }
 
+/* A receiving point pressed against another face: within REF_CONTACT_TOL
+ * of the scene's diagonal of a quad (not its own) that faces it, normals
+ * within a degree of opposite (a box standing on a plinth: its bottom and
+ * the plinth's top under it). It sees nothing: its form factors are 0.
+ * Without this test its rays, which leave a hair above its surface, would
+ * start behind the face it lies on and see whatever that face closes in.
+ * The GPU methods find the same elements by their own rays
+ * (scene_find_enclosed). */
+#define REF_CONTACT_TOL 1e-6
+bool ref_receiver_pressed(const ref_geometry *g, const ref_receiver *r);
+
 /* The visible fraction of F(x_i -> polygon) (thesis eq. 2.2.3's HID
  * term): g->rays rays from the origin of receiver r to stratified points
  * of `poly` (4 world corners, wound like its surface; `poly_normal` its unit

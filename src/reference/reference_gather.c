@@ -115,6 +115,13 @@ static void trace_element(void *user, uint32_t thread, uint32_t i)
     uint32_t own = g->surface_of[i];
     vec3 p = g->recv[i], n = g->normal[i], o = g->origin[i];
     ref_receiver rc = ref_receiver_of(g, i);
+    if (ref_receiver_pressed(g, &rc)) {
+        memset(&G->direct[3 * i], 0, 3 * sizeof G->direct[0]);
+        for (uint32_t k = 0; k < G->rays; k++)
+            G->hits[(size_t)i * G->rays + k] = NO_HIT;
+        G->front[i] = 0;
+        return;
+    }
 
     /* Light from the emitters (next-event estimation). */
     double d[3] = {0, 0, 0};

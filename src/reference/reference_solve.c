@@ -192,6 +192,22 @@ double ref_visible_fraction(const ref_geometry *g, const ref_receiver *r, uint32
     return total > 0 ? seen / total : (double)open / g->rays;
 }
 
+bool ref_receiver_pressed(const ref_geometry *g, const ref_receiver *r)
+{
+    /* A segment across the surface's plane at r->p, REF_CONTACT_TOL of the
+     * scene either side: it meets a face pressed against r->p. */
+    vec3 n = g->quads[r->surface].normal;
+    double h = REF_CONTACT_TOL * g->scale;
+    vec3 a = v3_mad(r->p, n, -h), b = v3_mad(r->p, n, h);
+    if (g->bvh)
+        return ref_rays_touching(g->bvh, r->surface, n, a, v3_sub(b, a));
+    for (uint32_t k = 0; k < g->surface_count; k++)
+        if (k != r->surface && v3_dot(g->quads[k].normal, n) < -REF_CONTACT_COS &&
+            ref_segment_hits_quad(&g->quads[k], a, b))
+            return true;
+    return false;
+}
+
 /* Where clipping gives up, and every pair with rays visibility. */
 static double visibility(const ref_geometry *g, const ref_receiver *r, uint32_t j,
                          const uint32_t *cand, uint32_t count)
@@ -231,6 +247,8 @@ double ref_form_factor_row(const ref_geometry *g, const ref_receiver *r, float *
                            ref_row_scratch *scratch)
 {
     memset(row, 0, (size_t)g->element_count * sizeof *row);
+    if (ref_receiver_pressed(g, r))
+        return 0;
     uint32_t own = r->surface;
     vec3 p = r->p, n = r->n, o = r->o;
     uint32_t *cand = scratch->cand, *cell_cand = scratch->cell_cand;

@@ -7,7 +7,7 @@
  * projection from the point says. Visibility is exact by clipping, so
  * shadows that split cells (along a cell's middle, at an oblique angle, from
  * a tilted occluder, two overlapping) give the closed form too, whatever
- * the number of rays.
+ * the number of rays. A face pressed against the point's sees nothing.
  */
 #include <stdio.h>
 #include <string.h>
@@ -41,6 +41,9 @@ static const char *json_fmt =
     "%s],"
     "\"camera\":{\"position\":[0,0,-3],\"look_at\":[0,0,0],\"up\":[0,1,0],\"fov_degrees\":60}}";
 
+/* How ceiling_sum's solves see: auto (clipping here) unless a check sets it. */
+static xrad_visibility visibility = XRAD_VISIBILITY_AUTO;
+
 /* Sum over the ceiling's cells of F from the floor's middle element, at
  * scene time t; negative on failure. */
 static double ceiling_sum(const char *occluder, double t, uint32_t rays)
@@ -53,7 +56,7 @@ static double ceiling_sum(const char *occluder, double t, uint32_t rays)
     CHECK(st == XRAD_OK, "parse: %s", err.message);
     if (st)
         return -1;
-    xrad_reference_desc desc = {.time = t, .threads = 2, .rays = rays};
+    xrad_reference_desc desc = {.time = t, .threads = 2, .rays = rays, .visibility = visibility};
     float *F = NULL;
     st = ref_form_factor_matrix(scene, &desc, &F, NULL, &err);
     CHECK(st == XRAD_OK, "matrix: %s", err.message);
@@ -230,6 +233,31 @@ int main(void)
     occluder(occ, sizeof occ, -3, 3, -3, 3, 0.5, 1, "");
     f = ceiling_sum(occ, 0, 0);
     CHECK(f == 0, "full occluder: %g", f);
+
+    /* A plate lying on the floor, facing down onto it, over the middle
+     * element: pressed against it, that element sees nothing, by clipping
+     * and by rays alike (its rays leave a hair above the floor, above the
+     * plate: without the contact test it saw the whole ceiling). The same
+     * plate facing up, the floor's twin, or facing down but beside the
+     * point, hides nothing. */
+    for (int rays = 0; rays < 2; rays++) {
+        visibility = rays ? XRAD_VISIBILITY_RAYS : XRAD_VISIBILITY_CLIP;
+        const char *how = rays ? "rays" : "clip";
+        occluder(occ, sizeof occ, -0.5, 0.5, -0.5, 0.5, 0, 0, "");
+        f = ceiling_sum(occ, 0, 0);
+        CHECK(f == 0, "%s: plate pressed on the floor: %g", how, f);
+        occluder(occ, sizeof occ, -0.5, 0.5, -0.5, 0.5, 0, 1, "");
+        f = ceiling_sum(occ, 0, 0);
+        fprintf(stderr, "%s: plate in the floor's plane facing up: %.9f, closed form %.9f\n", how,
+                f, open);
+        CHECK_REL(f, open, rays ? 2e-2 : 1e-6);
+        occluder(occ, sizeof occ, 0.2, 0.5, -0.5, 0.5, 0, 0, "");
+        f = ceiling_sum(occ, 0, 0);
+        fprintf(stderr, "%s: plate on the floor beside the point: %.9f, closed form %.9f\n", how, f,
+                open);
+        CHECK_REL(f, open, rays ? 2e-2 : 1e-6);
+    }
+    visibility = XRAD_VISIBILITY_AUTO;
 
     /* A dynamic occluder is posed at the solve's time: the full plate slid
      * 10 m sideways by t = 1 s blocks nothing then, everything at t = 0. */
