@@ -807,8 +807,8 @@ typedef struct xrad_solver_desc {
      * (near it, or cut by its plane) keep their exact form factors, each
      * block's visibility tested against every quad; more accurate, and
      * 1.5-1.8 times the shots' time (README "Conservation of a shot").
-     * XRAD_CONSERVE_AUTO (default 0): FAR for progressive, ON for
-     * incremental and cross (README "far for progressive"). */
+     * XRAD_CONSERVE_AUTO (default 0): FAR for every method (README "far
+     * for every method"). */
     uint32_t conserve;
     /* progressive shots (all methods but gather) and gather's hemicubes:
      * XRAD_CULL_ON leaves out of each draw of hemicubes the clusters of

@@ -95,7 +95,7 @@ static const setting settings[] = {
     {{"conserve",
       "progressive shots: a shooter's receivers take what it sends (form factors scaled "
       "where they would take more or less); far: only those that see it by its centre, the "
-      "near blocks exact; auto: far for progressive, on for incremental and cross",
+      "near blocks exact; auto: far",
       XRAD_SETTING_CHOICE, XRAD_CONSERVE_AUTO, 1, 4, "on|off|far|auto", 0},
      SOLVER(conserve), RULE_NONE},
     {{"cull",

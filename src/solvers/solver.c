@@ -61,13 +61,13 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
      * underside 30% high at 12 (README "12 shooting patches a side"). */
     if (!d->max_patches)
         d->max_patches = d->method == XRAD_METHOD_PROGRESSIVE ? 12 : 8;
-    /* conserve auto: far for progressive; on for incremental and cross,
-     * whose frames shoot too (far made incremental's frames in room 1 of
-     * tests/solvers/rooms.c 1.1-1.16 times as long), and whose first solve
-     * alone with far, its frames with on, left cross's C in room 1 2.0% off
-     * where on throughout has it 1.5% (README "far for progressive"). */
+    /* conserve auto: far for every method. The dynamic methods had on
+     * (far made incremental's frames in room 1 1.1 times as long), but far
+     * brought them closer to the CPU reference on eight of the ten shipped
+     * scenes (lamp-room 0.035 -> 0.010, indirect-light 0.069 -> 0.041,
+     * README "far for every method"). */
     if (d->conserve == XRAD_CONSERVE_AUTO)
-        d->conserve = d->method == XRAD_METHOD_PROGRESSIVE ? XRAD_CONSERVE_FAR : XRAD_CONSERVE_ON;
+        d->conserve = XRAD_CONSERVE_FAR;
     if (!(d->time == d->time) || d->time > 1e9 || d->time < -1e9)
         return xrad_fail(err, XRAD_ERROR_INPUT, "solver: time must be finite, got %g", d->time);
     return XRAD_OK;
