@@ -28,7 +28,13 @@
 #define STEP 0.1
 #define MOVER_TOL 0.03
 #define C_TOL 1e-5
-#define C_AFTER_TOL 0.02
+/* C after the step with regather after: within 2.5% of the CPU reference,
+ * and no more than C_AFTER_COST further off than without the regather.
+ * The first is the static solve's (conserve far at 8 patches a side has
+ * the table's +z side at 1.019 without a regather, 1.020 with; it was
+ * 0.015 with conserve on), the second what the regather may cost. */
+#define C_AFTER_TOL 0.025
+#define C_AFTER_COST 0.002
 
 static xrad_solver *advance_once(xrad_context *ctx, const xrad_scene *scene, uint32_t regather)
 {
@@ -69,13 +75,20 @@ static double surface_error(const xrad_scene *scene, const xrad_atlas *got, cons
         return -1;
     }
     double worst = 0;
+    uint32_t at = UINT32_MAX;
     for (uint32_t k = 0; k < scene->surface_count; k++) {
         if (dynamic_surface(scene, k) != dynamic)
             continue;
         if (dynamic)
             printf("%s: %-10s %.4f\n", what, scene->surfaces[k].name, ratio[k]);
-        worst = fmax(worst, fabs(ratio[k] - 1));
+        if (at == UINT32_MAX || fabs(ratio[k] - 1) > worst) {
+            worst = fabs(ratio[k] - 1);
+            at = k;
+        }
     }
+    if (!dynamic && at != UINT32_MAX)
+        printf("%s: the rest's worst surface %s at %.4f\n", what, scene->surfaces[at].name,
+               ratio[at]);
     free(ratio);
     return worst;
 }
@@ -129,6 +142,10 @@ int main(void)
             CHECK(c_after >= 0 && c_after <= C_AFTER_TOL,
                   "regather after: C's worst surface %.4f off the reference, allowed %.3f", c_after,
                   C_AFTER_TOL);
+            CHECK(c_off >= 0 && c_after <= c_off + C_AFTER_COST,
+                  "regather after: C's worst surface %.4f off the reference, %.4f without the "
+                  "regather",
+                  c_after, c_off);
             double top = 0, diff = 0;
             uint32_t counted = 0;
             for (uint32_t e = 0; e < scene->element_count; e++) {
