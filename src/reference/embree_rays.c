@@ -33,7 +33,8 @@ typedef struct occlusion_ctx {
     struct RTCIntersectContext rtc;
     const ref_rays *rays;
     uint32_t own, target;
-    vec3 facing; /* touch_filter: the normal a pressed face turns away from */
+    bool touch;  /* a contact test (ref_rays_touching), not occlusion */
+    vec3 facing; /* with touch: the normal a pressed face turns away from */
 } occlusion_ctx;
 
 static bool coplanar(const ref_rays *r, uint32_t a, uint32_t b)
@@ -43,36 +44,27 @@ static bool coplanar(const ref_rays *r, uint32_t a, uint32_t b)
            fabs(v3_dot(qa->normal, v3_sub(qb->p[0], qa->p[0]))) < r->plane_tol;
 }
 
-/* Occlusion filter: a hit on the segment's own two quads, or on a quad in
- * the plane of either, is no hit (embree_rays.h). Embree's C API has no
- * accessor for RTCHitN: primID is its sixth SoA array (rtcore_ray.h). */
+/* Whether a hit on quad q counts. Occlusion: not on the segment's own two
+ * quads or a quad in the plane of either (embree_rays.h). Contact
+ * (ref_rays_touching, c->touch): only on a quad other than the own one
+ * that faces against it. */
+static bool counts(const occlusion_ctx *c, uint32_t q)
+{
+    if (c->touch)
+        return q != c->own && v3_dot(c->rays->quads[q].normal, c->facing) < -REF_CONTACT_COS;
+    return !(q == c->own || q == c->target || coplanar(c->rays, q, c->own) ||
+             coplanar(c->rays, q, c->target));
+}
+
+/* Embree's C API has no accessor for RTCHitN: primID is its sixth SoA
+ * array (rtcore_ray.h). */
 static void filter(const struct RTCFilterFunctionNArguments *args)
 {
     const occlusion_ctx *c = (const occlusion_ctx *)args->context;
     const unsigned *prim = (const unsigned *)args->hit + 5 * args->N;
-    for (unsigned i = 0; i < args->N; i++) {
-        if (!args->valid[i])
-            continue;
-        uint32_t q = prim[i];
-        if (q == c->own || q == c->target || coplanar(c->rays, q, c->own) ||
-            coplanar(c->rays, q, c->target))
+    for (unsigned i = 0; i < args->N; i++)
+        if (args->valid[i] && !counts(c, prim[i]))
             args->valid[i] = 0;
-    }
-}
-
-/* Contact filter (ref_rays_touching): only a quad other than the own one
- * that faces against it is a hit. */
-static void touch_filter(const struct RTCFilterFunctionNArguments *args)
-{
-    const occlusion_ctx *c = (const occlusion_ctx *)args->context;
-    const unsigned *prim = (const unsigned *)args->hit + 5 * args->N;
-    for (unsigned i = 0; i < args->N; i++) {
-        if (!args->valid[i])
-            continue;
-        uint32_t q = prim[i];
-        if (q == c->own || !(v3_dot(c->rays->quads[q].normal, c->facing) < -REF_CONTACT_COS))
-            args->valid[i] = 0;
-    }
 }
 
 static const char *device_error(RTCDevice device)
@@ -220,9 +212,9 @@ void ref_rays_closest(const ref_rays *rays, uint32_t own, vec3 from, const vec3 
 
 bool ref_rays_touching(const ref_rays *rays, uint32_t own, vec3 n, vec3 from, vec3 dir)
 {
-    occlusion_ctx c = {.rays = rays, .own = own, .target = own, .facing = n};
+    occlusion_ctx c = {.rays = rays, .own = own, .target = own, .touch = true, .facing = n};
     rtcInitIntersectContext(&c.rtc);
-    c.rtc.filter = touch_filter;
+    c.rtc.filter = filter;
     struct RTCRay ray = {
         .org_x = (float)from.x,
         .org_y = (float)from.y,

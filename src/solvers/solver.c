@@ -63,9 +63,10 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
         d->max_patches = d->method == XRAD_METHOD_PROGRESSIVE ? 12 : 8;
     /* conserve auto: far for every method. The dynamic methods had on
      * (far made incremental's frames in room 1 1.1 times as long), but far
-     * brought them closer to the CPU reference on eight of the ten shipped
-     * scenes (lamp-room 0.035 -> 0.010, indirect-light 0.069 -> 0.041,
-     * README "far for every method"). */
+     * brought incremental closer to the CPU reference on eight of the ten
+     * shipped scenes and cross on seven (lamp-room 0.035 -> 0.010,
+     * indirect-light 0.069 -> 0.041); it costs cornell-small's cross
+     * (0.084 -> 0.198, README "far for every method"). */
     if (d->conserve == XRAD_CONSERVE_AUTO)
         d->conserve = XRAD_CONSERVE_FAR;
     if (!(d->time == d->time) || d->time > 1e9 || d->time < -1e9)
