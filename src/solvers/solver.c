@@ -57,8 +57,9 @@ static xrad_status settle(xrad_solver_desc *d, xrad_error *err)
     /* max_patches 0: 12 for progressive, whose rooms (tests/solvers/rooms.c)
      * all came within 2% with it (room 2 0.0203 at 8); 8 for incremental
      * and cross, whose frames shoot too (incremental's 1.4 times as long
-     * at 12 on cornell-large) and whose conserve on put lamp-room's table
-     * underside 30% high at 12 (README "12 shooting patches a side"). */
+     * at 12 on cornell-large), and whose shipped scenes at 12 moved away
+     * from the CPU reference with conserve far too (cross's cornell-large
+     * 0.031 -> 0.052, README "far for every method"). */
     if (!d->max_patches)
         d->max_patches = d->method == XRAD_METHOD_PROGRESSIVE ? 12 : 8;
     /* conserve auto: far for every method. The dynamic methods had on

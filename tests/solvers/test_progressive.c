@@ -132,9 +132,9 @@ static void furnace(xrad_context *ctx, uint32_t conserve)
      * about 0.4% of what 8 x 8 patches of a face send at the default ratio
      * 0.1 (a host integration of the unit cube, and this box: 4% low), which
      * rho / (1 - rho) = 9 amplifies; at 0.01 the closure is within 1e-4. */
-    /* conserve on at 8 patches a side, as the dynamic methods shoot with it
+    /* conserve on at 8 patches a side, the dynamic methods' default count
      * (solver.c settle); progressive's default 12 put the corner cells 7.0%
-     * off with on (0.88% with far, its default). */
+     * off with on (0.88% with far, the default conservation). */
     xrad_solver_desc desc = {.method = XRAD_METHOD_PROGRESSIVE,
                              .subdivide_ratio = 0.01,
                              .conserve = conserve,
